@@ -1,0 +1,153 @@
+"""Type stubs for gi._core, the nanobind module over the C++ renderer (renderer/).
+
+Conventions
+- Matrices are 4x4 float64 arrays in USD's convention: row vectors, p' = p @ M, translation in
+  the last row (exactly what Gf.Matrix4d holds; `np.array(gf_matrix)` gives it).
+- Colors are linear RGB (Rec.709 primaries) float tuples.
+- Every `name` is the USD prim path the object came from; the renderer uses it in warnings.
+"""
+from typing import Callable, Optional, Sequence
+import numpy as np
+import numpy.typing as npt
+
+class TextureDesc:
+    """A UsdUVTexture reading a file, with its UsdPrimvarReader_float2 / UsdTransform2d."""
+    file: str                      # resolved absolute path ('' = none)
+    wrap_s: str                    # 'repeat' | 'mirror' | 'clamp' | 'black' | 'useMetadata'
+    wrap_t: str
+    scale: tuple[float, float, float, float]
+    bias: tuple[float, float, float, float]
+    fallback: tuple[float, float, float, float]
+    channel: str                   # 'rgb' | 'r' | 'g' | 'b' | 'a'  (which output is connected)
+    source_color_space: str        # 'auto' | 'raw' | 'sRGB'
+    st_rotation: float             # UsdTransform2d, degrees
+    st_scale: tuple[float, float]
+    st_translation: tuple[float, float]
+    def __init__(self) -> None: ...
+
+class MaterialDesc:
+    """UsdPreviewSurface inputs. A `*_texture` with an empty file means 'use the constant'."""
+    name: str
+    diffuse_color: tuple[float, float, float]
+    emissive_color: tuple[float, float, float]
+    use_specular_workflow: bool
+    specular_color: tuple[float, float, float]
+    metallic: float
+    roughness: float
+    clearcoat: float
+    clearcoat_roughness: float
+    opacity: float
+    opacity_mode: str              # 'transparent' | 'presence'
+    opacity_threshold: float
+    ior: float
+    diffuse_color_texture: TextureDesc
+    emissive_color_texture: TextureDesc
+    specular_color_texture: TextureDesc
+    metallic_texture: TextureDesc
+    roughness_texture: TextureDesc
+    opacity_texture: TextureDesc
+    normal_texture: TextureDesc
+    def __init__(self) -> None: ...
+
+class LightDesc:
+    """A UsdLux light. `kind` is the schema: 'rect' | 'disk' | 'sphere' | 'cylinder' | 'distant' | 'dome'."""
+    name: str
+    kind: str
+    color: tuple[float, float, float]
+    intensity: float
+    exposure: float
+    normalize: bool
+    width: float                   # rect
+    height: float                  # rect
+    radius: float                  # disk, sphere, cylinder
+    length: float                  # cylinder (along local X)
+    angle: float                   # distant: angular diameter in degrees
+    texture_file: str              # dome lat-long map or rect light texture ('' = none)
+    transform: npt.NDArray[np.float64]   # 4x4, USD convention
+    visible_to_camera: bool
+    def __init__(self) -> None: ...
+
+class CameraDesc:
+    """A UsdGeomCamera. Lengths in the schema's units (focal length / apertures in tenths of a scene unit)."""
+    name: str
+    projection: str                # 'perspective' | 'orthographic'
+    focal_length: float
+    horizontal_aperture: float
+    vertical_aperture: float
+    horizontal_aperture_offset: float
+    vertical_aperture_offset: float
+    f_stop: float                  # 0 = pinhole
+    focus_distance: float
+    clipping_range: tuple[float, float]
+    transform: npt.NDArray[np.float64]   # 4x4 camera-to-world, USD convention (camera looks down -Z)
+    def __init__(self) -> None: ...
+
+class Scene:
+    """Geometry, materials, lights and camera. Build it, then render it (it is committed on first render)."""
+    def __init__(self) -> None: ...
+    def add_material(self, material: MaterialDesc) -> int: ...
+    def add_prototype(self, name: str) -> int:
+        """A group of meshes/spheres that instances refer to (a point-instancer prototype or an
+        instanceable prim's master). Returns its id."""
+    def add_mesh(self, name: str,
+                 positions: npt.NDArray[np.float32],        # (N, 3)
+                 indices: npt.NDArray[np.uint32],           # (M, 3) triangles
+                 normals: Optional[npt.NDArray[np.float32]] = None,   # (N, 3) per vertex, or None
+                 uvs: Optional[npt.NDArray[np.float32]] = None,       # (N, 2) per vertex, or None
+                 material: int = -1,                       # -1 = default grey diffuse
+                 transform: Optional[npt.NDArray[np.float64]] = None, # 4x4 USD convention
+                 double_sided: bool = True,
+                 prototype: int = -1) -> int:
+        """Adds a triangle mesh (in `prototype` if >= 0). Face-varying data must be de-indexed by the
+        caller. Bad data (NaN points, out-of-range indices, degenerate triangles) is repaired or
+        dropped with a warning naming `name`; raises ValueError only if nothing usable remains."""
+    def add_sphere(self, name: str, center: Sequence[float], radius: float, material: int = -1,
+                   transform: Optional[npt.NDArray[np.float64]] = None, prototype: int = -1) -> int:
+        """An exact sphere (Embree sphere geometry). Non-uniform transforms are handled by instancing."""
+    def add_instance(self, prototype: int, transform: npt.NDArray[np.float64], name: str = "") -> int: ...
+    def add_light(self, light: LightDesc) -> int: ...
+    def set_camera(self, camera: CameraDesc) -> None: ...
+    def warnings(self) -> list[str]:
+        """Every warning issued while building and committing, each naming its prim."""
+    def stats(self) -> dict: ...   # triangles, spheres, instances, lights, build_seconds, ...
+
+class RenderSettings:
+    width: int
+    height: int
+    spp: int                       # camera samples per pixel
+    integrator: str                # a name from integrators()
+    params: dict                   # integrator parameter name (camelCase) -> int | float | bool
+    seed: int
+    threads: int                   # 0 = all
+    time_limit: float              # seconds, 0 = none
+    def __init__(self) -> None: ...
+
+class RenderResult:
+    color: npt.NDArray[np.float32]     # (H, W, 3) linear RGB, top row first
+    depth: npt.NDArray[np.float32]     # (H, W) camera-space distance, inf where nothing was hit
+    normal: npt.NDArray[np.float32]    # (H, W, 3) world-space shading normal
+    albedo: npt.NDArray[np.float32]    # (H, W, 3)
+    spp: int                           # samples actually taken
+    stats: dict                        # seconds, preprocess_seconds, rays, rays_per_second, samples_per_second, peak_memory_bytes, + integrator stats
+
+def integrators() -> list[dict]:
+    """[{'name', 'description', 'params': [{'name', 'type' ('int'|'float'|'bool'), 'default', 'min', 'max', 'description'}]}]"""
+
+def render(scene: Scene, settings: RenderSettings,
+           progress: Optional[Callable[[int, int], None]] = None) -> RenderResult:
+    """Renders with all threads; progress(done_tiles, total_tiles) is called from the calling thread.
+    Releases the GIL while rendering. KeyboardInterrupt cancels."""
+
+def write_exr(path: str, result: RenderResult, metadata: dict = {}) -> None:
+    """Linear half/float EXR with R,G,B plus depth (Z), normal (N.x..), albedo (albedo.r..) layers; metadata as string attributes."""
+
+def write_png(path: str, color: npt.NDArray[np.float32], display: str = "", view: str = "",
+              exposure: float = 0.0) -> None:
+    """Display-referred 8-bit PNG through the OpenColorIO display/view transform ($OCIO or the shipped config)."""
+
+def read_image(path: str) -> tuple[npt.NDArray[np.float32], dict]:
+    """(H, W, C) float pixels and the file's metadata, through OpenImageIO."""
+
+def display_transform(color: npt.NDArray[np.float32], display: str = "", view: str = "",
+                      exposure: float = 0.0) -> npt.NDArray[np.float32]:
+    """The OCIO display transform as float (H, W, 3) in [0, 1]."""

@@ -1,0 +1,427 @@
+// gi._core: the renderer for Python (see python/gi/_core.pyi for the documented API).
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/function.h>
+#include <nanobind/stl/map.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include <chrono>
+#include <thread>
+
+#include "renderer/color.h"
+#include "renderer/image_io.h"
+#include "renderer/render.h"
+#include "renderer/scene.h"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+using namespace gi;
+
+namespace {
+
+using Float3 = std::tuple<float, float, float>;
+using Float4 = std::tuple<float, float, float, float>;
+using Float2 = std::tuple<float, float>;
+using Matrix = nb::ndarray<const double, nb::shape<4, 4>, nb::device::cpu>;
+
+Color toColor(const Float3& t) { return {std::get<0>(t), std::get<1>(t), std::get<2>(t)}; }
+Float3 fromColor(const Color& c) { return {c.x, c.y, c.z}; }
+
+Mat4 toMat4(const Matrix& m) {
+    Mat4 r;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) r.m[i][j] = m(i, j);
+    return r;
+}
+nb::ndarray<nb::numpy, double, nb::shape<4, 4>> fromMat4(const Mat4& m) {
+    double* data = new double[16];
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) data[i * 4 + j] = m.m[i][j];
+    nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<double*>(p); });
+    return nb::ndarray<nb::numpy, double, nb::shape<4, 4>>(data, {4, 4}, owner);
+}
+
+template <size_t N>
+nb::ndarray<nb::numpy, float> toNumpy(std::vector<float> v, std::initializer_list<size_t> shape) {
+    auto* heap = new std::vector<float>(std::move(v));
+    nb::capsule owner(heap, [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });
+    return nb::ndarray<nb::numpy, float>(heap->data(), N, shape.begin(), owner);
+}
+
+#define RW_COLOR(cls, pyname, field) \
+    def_prop_rw(pyname, [](const cls& o) { return fromColor(o.field); }, [](cls& o, Float3 v) { o.field = toColor(v); })
+
+void bindDescriptors(nb::module_& m) {
+    nb::class_<TextureDesc>(m, "TextureDesc")
+        .def(nb::init<>())
+        .def_rw("file", &TextureDesc::file)
+        .def_rw("wrap_s", &TextureDesc::wrapS)
+        .def_rw("wrap_t", &TextureDesc::wrapT)
+        .def_rw("channel", &TextureDesc::channel)
+        .def_rw("source_color_space", &TextureDesc::sourceColorSpace)
+        .def_rw("st_rotation", &TextureDesc::stRotation)
+        .def_prop_rw("scale", [](const TextureDesc& t) { return Float4{t.scale[0], t.scale[1], t.scale[2], t.scale[3]}; },
+                     [](TextureDesc& t, Float4 v) { std::tie(t.scale[0], t.scale[1], t.scale[2], t.scale[3]) = v; })
+        .def_prop_rw("bias", [](const TextureDesc& t) { return Float4{t.bias[0], t.bias[1], t.bias[2], t.bias[3]}; },
+                     [](TextureDesc& t, Float4 v) { std::tie(t.bias[0], t.bias[1], t.bias[2], t.bias[3]) = v; })
+        .def_prop_rw("fallback",
+                     [](const TextureDesc& t) { return Float4{t.fallback[0], t.fallback[1], t.fallback[2], t.fallback[3]}; },
+                     [](TextureDesc& t, Float4 v) { std::tie(t.fallback[0], t.fallback[1], t.fallback[2], t.fallback[3]) = v; })
+        .def_prop_rw("st_scale", [](const TextureDesc& t) { return Float2{t.stScale.x, t.stScale.y}; },
+                     [](TextureDesc& t, Float2 v) { std::tie(t.stScale.x, t.stScale.y) = v; })
+        .def_prop_rw("st_translation", [](const TextureDesc& t) { return Float2{t.stTranslation.x, t.stTranslation.y}; },
+                     [](TextureDesc& t, Float2 v) { std::tie(t.stTranslation.x, t.stTranslation.y) = v; });
+
+    nb::class_<MaterialDesc>(m, "MaterialDesc")
+        .def(nb::init<>())
+        .def_rw("name", &MaterialDesc::name)
+        .RW_COLOR(MaterialDesc, "diffuse_color", diffuseColor)
+        .RW_COLOR(MaterialDesc, "emissive_color", emissiveColor)
+        .RW_COLOR(MaterialDesc, "specular_color", specularColor)
+        .def_rw("use_specular_workflow", &MaterialDesc::useSpecularWorkflow)
+        .def_rw("metallic", &MaterialDesc::metallic)
+        .def_rw("roughness", &MaterialDesc::roughness)
+        .def_rw("clearcoat", &MaterialDesc::clearcoat)
+        .def_rw("clearcoat_roughness", &MaterialDesc::clearcoatRoughness)
+        .def_rw("opacity", &MaterialDesc::opacity)
+        .def_rw("opacity_mode", &MaterialDesc::opacityMode)
+        .def_rw("opacity_threshold", &MaterialDesc::opacityThreshold)
+        .def_rw("ior", &MaterialDesc::ior)
+        .def_rw("diffuse_color_texture", &MaterialDesc::diffuseColorTexture)
+        .def_rw("emissive_color_texture", &MaterialDesc::emissiveColorTexture)
+        .def_rw("specular_color_texture", &MaterialDesc::specularColorTexture)
+        .def_rw("metallic_texture", &MaterialDesc::metallicTexture)
+        .def_rw("roughness_texture", &MaterialDesc::roughnessTexture)
+        .def_rw("opacity_texture", &MaterialDesc::opacityTexture)
+        .def_rw("normal_texture", &MaterialDesc::normalTexture);
+
+    nb::class_<LightDesc>(m, "LightDesc")
+        .def(nb::init<>())
+        .def_rw("name", &LightDesc::name)
+        .def_rw("kind", &LightDesc::kind)
+        .RW_COLOR(LightDesc, "color", color)
+        .def_rw("intensity", &LightDesc::intensity)
+        .def_rw("exposure", &LightDesc::exposure)
+        .def_rw("normalize", &LightDesc::normalize)
+        .def_rw("width", &LightDesc::width)
+        .def_rw("height", &LightDesc::height)
+        .def_rw("radius", &LightDesc::radius)
+        .def_rw("length", &LightDesc::length)
+        .def_rw("angle", &LightDesc::angle)
+        .def_rw("texture_file", &LightDesc::textureFile)
+        .def_rw("visible_to_camera", &LightDesc::visibleToCamera)
+        .def_prop_rw("transform", [](const LightDesc& l) { return fromMat4(l.transform); },
+                     [](LightDesc& l, Matrix v) { l.transform = toMat4(v); });
+
+    nb::class_<CameraDesc>(m, "CameraDesc")
+        .def(nb::init<>())
+        .def_rw("name", &CameraDesc::name)
+        .def_rw("projection", &CameraDesc::projection)
+        .def_rw("focal_length", &CameraDesc::focalLength)
+        .def_rw("horizontal_aperture", &CameraDesc::horizontalAperture)
+        .def_rw("vertical_aperture", &CameraDesc::verticalAperture)
+        .def_rw("horizontal_aperture_offset", &CameraDesc::horizontalApertureOffset)
+        .def_rw("vertical_aperture_offset", &CameraDesc::verticalApertureOffset)
+        .def_rw("f_stop", &CameraDesc::fStop)
+        .def_rw("focus_distance", &CameraDesc::focusDistance)
+        .def_prop_rw("clipping_range", [](const CameraDesc& c) { return Float2{c.clipNear, c.clipFar}; },
+                     [](CameraDesc& c, Float2 v) { std::tie(c.clipNear, c.clipFar) = v; })
+        .def_prop_rw("transform", [](const CameraDesc& c) { return fromMat4(c.transform); },
+                     [](CameraDesc& c, Matrix v) { c.transform = toMat4(v); });
+}
+
+using Points = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using Uvs = nb::ndarray<const float, nb::shape<-1, 2>, nb::c_contig, nb::device::cpu>;
+using Indices = nb::ndarray<const uint32_t, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+
+std::vector<Vec3> toVec3s(const std::optional<Points>& a) {
+    std::vector<Vec3> out;
+    if (!a) return out;
+    out.resize(a->shape(0));
+    std::memcpy(out.data(), a->data(), out.size() * sizeof(Vec3));
+    return out;
+}
+
+void requireBuilding(const Scene& s) {
+    if (s.committed()) throw std::runtime_error("the scene was already rendered; build a new Scene to change it");
+}
+
+void bindScene(nb::module_& m) {
+    nb::class_<Scene>(m, "Scene")
+        .def(nb::init<>())
+        .def("add_material", [](Scene& s, const MaterialDesc& d) { requireBuilding(s); return s.addMaterial(d); })
+        .def("add_prototype", [](Scene& s, const std::string& name) { requireBuilding(s); return s.addPrototype(name); })
+        .def(
+            "add_mesh",
+            [](Scene& s, const std::string& name, Points positions, Indices indices, std::optional<Points> normals,
+               std::optional<Uvs> uvs, int material, std::optional<Matrix> transform, bool doubleSided, int prototype) {
+                requireBuilding(s);
+                std::vector<Vec3> p = toVec3s(positions);
+                std::vector<uint32_t> idx(indices.data(), indices.data() + indices.shape(0) * 3);
+                std::vector<Vec2> st;
+                if (uvs) {
+                    st.resize(uvs->shape(0));
+                    std::memcpy(st.data(), uvs->data(), st.size() * sizeof(Vec2));
+                }
+                Mat4 xf = transform ? toMat4(*transform) : Mat4();
+                nb::gil_scoped_release release;
+                return s.addMesh(name, std::move(p), std::move(idx), toVec3s(normals), std::move(st), material,
+                                 transform ? &xf : nullptr, doubleSided, prototype);
+            },
+            "name"_a, "positions"_a, "indices"_a, "normals"_a = nb::none(), "uvs"_a = nb::none(), "material"_a = -1,
+            "transform"_a = nb::none(), "double_sided"_a = true, "prototype"_a = -1)
+        .def(
+            "add_sphere",
+            [](Scene& s, const std::string& name, Float3 center, float radius, int material,
+               std::optional<Matrix> transform, int prototype) {
+                requireBuilding(s);
+                Mat4 xf = transform ? toMat4(*transform) : Mat4();
+                return s.addSphere(name, toColor(center), radius, material, transform ? &xf : nullptr, prototype);
+            },
+            "name"_a, "center"_a, "radius"_a, "material"_a = -1, "transform"_a = nb::none(), "prototype"_a = -1)
+        .def(
+            "add_instance",
+            [](Scene& s, int prototype, Matrix transform, const std::string& name) {
+                requireBuilding(s);
+                return s.addInstance(prototype, toMat4(transform), name);
+            },
+            "prototype"_a, "transform"_a, "name"_a = "")
+        .def("add_light", [](Scene& s, const LightDesc& d) { requireBuilding(s); return s.addLight(d); })
+        .def("set_camera", [](Scene& s, const CameraDesc& d) { requireBuilding(s); s.setCamera(d); })
+        .def("commit", [](Scene& s) { nb::gil_scoped_release release; s.commit(); })
+        .def("warnings", &Scene::warnings)
+        .def("stats", [](const Scene& s) {
+            const Scene::Stats& st = s.stats();
+            std::map<std::string, double> d{{"triangles", double(st.triangles)},
+                                            {"spheres", double(st.spheres)},
+                                            {"instances", double(st.instances)},
+                                            {"prototypes", double(st.prototypes)},
+                                            {"lights", double(st.lights)},
+                                            {"emissive_triangles", double(st.emissiveTriangles)},
+                                            {"textures", double(st.textures)},
+                                            {"texture_bytes", double(st.textureBytes)},
+                                            {"build_seconds", st.buildSeconds},
+                                            {"committed", s.committed() ? 1.0 : 0.0},
+                                            {"specular_surfaces", s.hasSpecularSurfaces() ? 1.0 : 0.0}};
+            return d;
+        });
+}
+
+struct PyRenderSettings {
+    int width = 512, height = 512, spp = 16;
+    std::string integrator = "path";
+    nb::dict params;
+    uint32_t seed = 0;
+    int threads = 0;
+    double timeLimit = 0;
+    std::string filter = "box";
+};
+
+struct RenderResult {
+    nb::object color, depth, normal, albedo;
+    int spp = 0;
+    std::map<std::string, double> stats;
+};
+
+RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::callable> progress) {
+    RenderSettings settings;
+    settings.width = py.width;
+    settings.height = py.height;
+    settings.spp = py.spp;
+    settings.integrator = py.integrator;
+    settings.seed = py.seed;
+    settings.threads = py.threads;
+    settings.timeLimit = py.timeLimit;
+    settings.filter = py.filter;
+    for (auto [key, value] : py.params) settings.params.set(nb::cast<std::string>(key), nb::cast<double>(value));
+    {
+        nb::gil_scoped_release release;
+        scene.commit();
+    }
+    Renderer renderer(scene, settings);
+    std::atomic<bool> cancel{false}, finished{false};
+    std::exception_ptr error;
+    {
+        nb::gil_scoped_release release;
+        std::thread worker([&] {
+            try {
+                renderer.render(&cancel);
+            } catch (...) {
+                error = std::current_exception();
+            }
+            finished = true;
+        });
+        // The calling thread reports progress and watches for Ctrl-C while workers render.
+        while (!finished) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+            nb::gil_scoped_acquire acquire;
+            if (PyErr_CheckSignals() != 0) {
+                cancel = true;
+                break;
+            }
+            if (progress) (*progress)(renderer.progress());
+        }
+        worker.join();
+    }
+    if (cancel) throw nb::python_error();
+    if (error) std::rethrow_exception(error);
+    if (progress) (*progress)(1.0);
+    const Film& film = renderer.film();
+    size_t w = size_t(film.width()), h = size_t(film.height());
+    RenderResult r;
+    r.color = nb::cast(toNumpy<3>(film.color(), {h, w, 3}));
+    r.depth = nb::cast(toNumpy<2>(film.depth(), {h, w}));
+    r.normal = nb::cast(toNumpy<3>(film.normal(), {h, w, 3}));
+    r.albedo = nb::cast(toNumpy<3>(film.albedo(), {h, w, 3}));
+    r.spp = renderer.samplesTaken();
+    const RenderStats& s = renderer.stats();
+    r.stats = {{"seconds", s.seconds},
+               {"preprocess_seconds", s.preprocessSeconds},
+               {"render_seconds", s.renderSeconds},
+               {"rays", double(s.rays)},
+               {"rays_per_second", s.renderSeconds > 0 ? s.rays / s.renderSeconds : 0},
+               {"camera_samples", double(s.cameraSamples)},
+               {"samples_per_second", s.renderSeconds > 0 ? s.cameraSamples / s.renderSeconds : 0},
+               {"non_finite_samples", double(s.nonFiniteSamples)},
+               {"peak_memory_bytes", double(s.peakMemoryBytes)},
+               {"spp", double(s.spp)}};
+    for (const auto& [k, v] : s.integrator) r.stats[k] = v;
+    return r;
+}
+
+template <typename T>
+std::vector<float> toVector(const nb::ndarray<const float, nb::c_contig, nb::device::cpu>& a, size_t& w, size_t& h) {
+    if (a.ndim() != 3 || a.shape(2) < 3) throw std::invalid_argument("expected an (H, W, 3) float32 array");
+    h = a.shape(0), w = a.shape(1);
+    size_t c = a.shape(2);
+    std::vector<float> out(w * h * 3);
+    for (size_t p = 0; p < w * h; ++p)
+        for (size_t k = 0; k < 3; ++k) out[p * 3 + k] = a.data()[p * c + k];
+    return out;
+}
+
+using ImageArray = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
+
+void bindRendering(nb::module_& m) {
+    nb::class_<PyRenderSettings>(m, "RenderSettings")
+        .def(nb::init<>())
+        .def_rw("width", &PyRenderSettings::width)
+        .def_rw("height", &PyRenderSettings::height)
+        .def_rw("spp", &PyRenderSettings::spp)
+        .def_rw("integrator", &PyRenderSettings::integrator)
+        .def_rw("params", &PyRenderSettings::params)
+        .def_rw("seed", &PyRenderSettings::seed)
+        .def_rw("threads", &PyRenderSettings::threads)
+        .def_rw("time_limit", &PyRenderSettings::timeLimit)
+        .def_rw("filter", &PyRenderSettings::filter);
+
+    nb::class_<RenderResult>(m, "RenderResult")
+        .def_ro("color", &RenderResult::color)
+        .def_ro("depth", &RenderResult::depth)
+        .def_ro("normal", &RenderResult::normal)
+        .def_ro("albedo", &RenderResult::albedo)
+        .def_ro("spp", &RenderResult::spp)
+        .def_ro("stats", &RenderResult::stats);
+
+    m.def("render", &render, "scene"_a, "settings"_a, "progress"_a = nb::none());
+
+    m.def("integrators", [] {
+        nb::list out;
+        for (const IntegratorInfo& info : integratorRegistry()) {
+            nb::list params;
+            for (const ParamInfo& p : info.params) {
+                nb::dict d;
+                d["name"] = p.name;
+                d["type"] = p.type;
+                d["description"] = p.description;
+                if (p.type == "int") {
+                    d["default"] = int64_t(p.defaultValue), d["min"] = int64_t(p.minValue), d["max"] = int64_t(p.maxValue);
+                } else if (p.type == "bool") {
+                    d["default"] = p.defaultValue != 0, d["min"] = false, d["max"] = true;
+                } else {
+                    d["default"] = p.defaultValue, d["min"] = p.minValue, d["max"] = p.maxValue;
+                }
+                params.append(d);
+            }
+            nb::dict d;
+            d["name"] = info.name;
+            d["description"] = info.description;
+            d["params"] = params;
+            out.append(d);
+        }
+        return out;
+    });
+
+    m.def(
+        "write_exr",
+        [](const std::string& path, const RenderResult& r, std::map<std::string, std::string> metadata) {
+            auto color = nb::cast<ImageArray>(r.color);
+            auto depth = nb::cast<ImageArray>(r.depth);
+            auto normal = nb::cast<ImageArray>(r.normal);
+            auto albedo = nb::cast<ImageArray>(r.albedo);
+            int h = int(color.shape(0)), w = int(color.shape(1));
+            std::vector<ImageLayer> layers{{"", {"R", "G", "B"}, color.data()},
+                                           {"", {"Z"}, depth.data()},
+                                           {"N", {"X", "Y", "Z"}, normal.data()},
+                                           {"albedo", {"R", "G", "B"}, albedo.data()}};
+            nb::gil_scoped_release release;
+            writeExr(path, w, h, layers, metadata);
+        },
+        "path"_a, "result"_a, "metadata"_a = std::map<std::string, std::string>());
+
+    m.def(
+        "write_rgb_exr",
+        [](const std::string& path, ImageArray color, std::map<std::string, std::string> metadata) {
+            size_t w, h;
+            std::vector<float> rgb = toVector<float>(color, w, h);
+            writeExr(path, int(w), int(h), {{"", {"R", "G", "B"}, rgb.data()}}, metadata);
+        },
+        "path"_a, "color"_a, "metadata"_a = std::map<std::string, std::string>());
+
+    m.def(
+        "display_transform",
+        [](ImageArray color, const std::string& config, const std::string& display, const std::string& view,
+           float exposure) {
+            size_t w, h;
+            std::vector<float> rgb = toVector<float>(color, w, h);
+            return toNumpy<3>(applyDisplayTransform(rgb, int(w), int(h), config, display, view, exposure), {h, w, 3});
+        },
+        "color"_a, "config"_a, "display"_a = "", "view"_a = "", "exposure"_a = 0.0f);
+
+    m.def(
+        "write_png",
+        [](const std::string& path, ImageArray color, const std::string& config, const std::string& display,
+           const std::string& view, float exposure) {
+            size_t w, h;
+            std::vector<float> rgb = toVector<float>(color, w, h);
+            writePng8(path, int(w), int(h), applyDisplayTransform(rgb, int(w), int(h), config, display, view, exposure));
+        },
+        "path"_a, "color"_a, "config"_a, "display"_a = "", "view"_a = "", "exposure"_a = 0.0f);
+
+    m.def("read_image", [](const std::string& path) {
+        LoadedImage img = readImage(path);
+        size_t h = size_t(img.height), w = size_t(img.width), c = size_t(img.channels);
+        auto* heap = new std::vector<float>(std::move(img.pixels));
+        nb::capsule owner(heap, [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });
+        size_t shape[3] = {h, w, c};
+        nb::ndarray<nb::numpy, float> array(heap->data(), 3, shape, owner);
+        nb::dict meta;
+        for (const auto& [k, v] : img.metadata) meta[k.c_str()] = v;
+        meta["channels"] = img.channelNames;
+        return nb::make_tuple(array, meta);
+    });
+
+    m.def("peak_memory_bytes", &peakResidentMemoryBytes);
+}
+
+}  // namespace
+
+NB_MODULE(_core, m) {
+    m.doc() = "hdGi's CPU global-illumination renderer";
+    bindDescriptors(m);
+    bindScene(m);
+    bindRendering(m);
+}

@@ -1,0 +1,62 @@
+#include "camera.h"
+
+#include "sampling.h"
+
+namespace gi {
+
+namespace {
+// UsdGeomCamera lengths (focal length, apertures) are in tenths of a scene unit.
+constexpr float kTenthOfUnit = 0.1f;
+}
+
+Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), width_(width), height_(height) {
+    orthographic_ = desc.projection == "orthographic";
+    float focal = desc.focalLength > 0 && std::isfinite(desc.focalLength) ? desc.focalLength : 50.0f;
+    float ha = desc.horizontalAperture > 0 ? desc.horizontalAperture : 20.955f;
+    float va = desc.verticalAperture > 0 ? desc.verticalAperture : 15.2908f;
+    float imageAspect = float(width) / float(height);
+    // expandAperture: grow whichever aperture is too small for the image's aspect ratio.
+    if (ha / va < imageAspect) ha = va * imageAspect;
+    else va = ha / imageAspect;
+    float scale = orthographic_ ? kTenthOfUnit : 1.0f / focal;
+    halfWidth_ = 0.5f * ha * scale;
+    halfHeight_ = 0.5f * va * scale;
+    offsetX_ = desc.horizontalApertureOffset * scale;
+    offsetY_ = desc.verticalApertureOffset * scale;
+    if (desc.fStop > 0 && desc.focusDistance > 0 && !orthographic_) {
+        lensRadius_ = focal * kTenthOfUnit / (2 * desc.fStop);
+        focusDistance_ = desc.focusDistance;
+    }
+    position_ = desc.transform.point(Vec3(0.0f));
+    forward_ = normalize(desc.transform.vector(Vec3(0, 0, -1)));
+}
+
+Ray Camera::generateRay(float filmX, float filmY, Vec2 lens) const {
+    float sx = (2 * filmX / width_ - 1) * halfWidth_ + offsetX_;
+    float sy = (1 - 2 * filmY / height_) * halfHeight_ + offsetY_;
+    Vec3 o(0.0f), d;
+    if (orthographic_) {
+        o = Vec3(sx, sy, 0);
+        d = Vec3(0, 0, -1);
+    } else {
+        d = Vec3(sx, sy, -1);
+        if (lensRadius_ > 0) {
+            Vec2 l = sampleConcentricDisk(lens) * lensRadius_;
+            Vec3 focus = d * focusDistance_;  // d.z = -1, so this lies on the focus plane
+            o = Vec3(l.x, l.y, 0);
+            d = focus - o;
+        }
+    }
+    Ray r;
+    r.o = desc_.transform.point(o);
+    Vec3 wd = desc_.transform.vector(d);
+    float len = length(wd);
+    r.d = wd / len;
+    // Clipping planes are distances along the view axis; convert to distances along the ray.
+    float axial = std::fabs(d.z) / length(d);
+    r.tMin = std::max(0.0f, desc_.clipNear) / std::max(axial, 1e-6f);
+    r.tMax = desc_.clipFar >= 1e29f ? kInf : desc_.clipFar / std::max(axial, 1e-6f);
+    return r;
+}
+
+}  // namespace gi

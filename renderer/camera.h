@@ -1,0 +1,42 @@
+// UsdGeomCamera: perspective or orthographic projection from focal length and apertures,
+// thin-lens depth of field from fStop and focusDistance. The aperture is expanded to the
+// image's aspect ratio (UsdRenderSettings' default conform policy, "expandAperture").
+#pragma once
+#include <string>
+
+#include "math.h"
+
+namespace gi {
+
+struct CameraDesc {
+    std::string name;
+    std::string projection = "perspective";
+    float focalLength = 50;
+    float horizontalAperture = 20.955f, verticalAperture = 15.2908f;
+    float horizontalApertureOffset = 0, verticalApertureOffset = 0;
+    float fStop = 0;
+    float focusDistance = 0;
+    float clipNear = 1e-4f, clipFar = 1e30f;
+    Mat4 transform;  // camera to world, USD convention
+};
+
+class Camera {
+public:
+    Camera() = default;
+    Camera(const CameraDesc& desc, int width, int height);
+    // filmX, filmY in pixels (x right, y down); lens sample in [0,1)^2.
+    Ray generateRay(float filmX, float filmY, Vec2 lens) const;
+    Vec3 position() const { return position_; }
+    Vec3 forward() const { return forward_; }
+
+private:
+    CameraDesc desc_;
+    int width_ = 1, height_ = 1;
+    float halfWidth_ = 1, halfHeight_ = 1;  // of the film window, at unit distance (perspective) or in scene units
+    float offsetX_ = 0, offsetY_ = 0;
+    float lensRadius_ = 0, focusDistance_ = 1;
+    bool orthographic_ = false;
+    Vec3 position_, forward_;
+};
+
+}  // namespace gi

@@ -1,0 +1,29 @@
+// Image files through OpenImageIO: linear EXR (color plus AOV layers and metadata), 8-bit
+// display-referred PNG, and reading any format OIIO knows.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+namespace gi {
+
+struct ImageLayer {
+    std::string name;                  // "" for the main RGB, else a prefix like "N" or "albedo"
+    std::vector<std::string> channels;  // e.g. {"R","G","B"} or {"Z"}
+    const float* pixels;               // width*height*channels.size(), row 0 at the top
+};
+
+// Throws std::runtime_error naming the file on failure.
+void writeExr(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
+              const std::map<std::string, std::string>& metadata);
+void writePng8(const std::string& path, int width, int height, const std::vector<float>& displayRgb);
+
+struct LoadedImage {
+    int width = 0, height = 0, channels = 0;
+    std::vector<float> pixels;
+    std::vector<std::string> channelNames;
+    std::map<std::string, std::string> metadata;
+};
+LoadedImage readImage(const std::string& path);
+
+}  // namespace gi

@@ -1,0 +1,71 @@
+// The integrator interface (thesis 3.1: a preprocess step, then radiance per camera ray) and
+// the registry that reflects every integrator's parameters to the CLI and to Hydra.
+#pragma once
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "camera.h"
+#include "film.h"
+#include "sampler.h"
+#include "scene.h"
+
+namespace gi {
+
+struct ParamInfo {
+    std::string name;  // camelCase, as in USD render settings
+    std::string type;  // "int" | "float" | "bool"
+    double defaultValue, minValue, maxValue;
+    std::string description;
+};
+
+class ParamSet {
+public:
+    void set(const std::string& name, double value) { values_[name] = value; }
+    bool has(const std::string& name) const { return values_.count(name) != 0; }
+    double get(const std::string& name, double fallback) const {
+        auto it = values_.find(name);
+        return it == values_.end() ? fallback : it->second;
+    }
+    const std::map<std::string, double>& values() const { return values_; }
+
+private:
+    std::map<std::string, double> values_;
+};
+
+// What preprocessing may use: the scene, the view (for view-driven caches), threads and a seed.
+struct PreprocessContext {
+    const Scene& scene;
+    const Camera& camera;
+    int width, height;
+    uint32_t seed;
+    const std::atomic<bool>* cancel;
+};
+
+class Integrator {
+public:
+    virtual ~Integrator() = default;
+    virtual void preprocess(const PreprocessContext&) {}
+    // Radiance arriving along -ray.d at ray.o. Fills `aovs` (if given) at the first visible surface.
+    virtual Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, RayStats& stats, SampleAovs* aovs) const = 0;
+    // Counters the integrator wants reported (records, photons, seconds spent in parts).
+    virtual std::map<std::string, double> statistics() const { return {}; }
+};
+
+struct IntegratorInfo {
+    std::string name;
+    std::string description;
+    std::vector<ParamInfo> params;
+    std::function<std::unique_ptr<Integrator>(const ParamSet&)> create;
+};
+
+const std::vector<IntegratorInfo>& integratorRegistry();
+const IntegratorInfo* findIntegrator(const std::string& name);
+
+// Reads a parameter clamped to its declared range, falling back to its default.
+double paramValue(const IntegratorInfo& info, const ParamSet& params, const std::string& name);
+
+}  // namespace gi

@@ -1,0 +1,86 @@
+#include "lighting.h"
+
+namespace gi {
+
+ShadingPoint makeShadingPoint(const SurfaceInteraction& si, const Vec3& wo) {
+    ShadingPoint sp;
+    sp.si = si;
+    sp.wo = wo;
+    sp.bsdf = si.material->bsdf(si.uv);
+    if (!sp.bsdf.transmits() && dot(wo, si.ng) < 0) {
+        // Opaque surfaces reflect on the side the ray arrived from.
+        sp.si.ng = -si.ng;
+        sp.si.ns = -si.ns;
+    }
+    Vec3 n = sp.si.ns;
+    // An interpolated normal can face away from a view the geometry faces: use the true normal.
+    if (!sp.bsdf.transmits() && dot(wo, n) <= 0) n = sp.si.ng;
+    sp.frame = Frame(n);
+    sp.woLocal = sp.frame.toLocal(wo);
+    return sp;
+}
+
+Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Sampler& sampler, RayStats& stats, bool mis) {
+    Vec2 uLight = sampler.get2D();
+    Vec2 uSelect = sampler.get2D();
+    if (scene.lights().empty() || !sp.bsdf.hasNonDelta()) return Color(0.0f);
+    float pmf;
+    int index = scene.lightDistribution().sample(uSelect.x, &pmf);
+    const Light& light = *scene.lights()[index];
+    LightSample ls = light.sample(sp.si.p, uLight);
+    if (!(ls.pdf > 0) || isBlack(ls.Li)) return Color(0.0f);
+    Vec3 wiLocal = sp.frame.toLocal(ls.wi);
+    Color f = sp.bsdf.eval(sp.woLocal, wiLocal) * absCosTheta(wiLocal);
+    if (isBlack(f)) return Color(0.0f);
+    if (!scene.visible(sp.si, ls.wi, ls.distance, stats)) return Color(0.0f);
+    if (ls.delta) return f * ls.Li / pmf;
+    float lightPdf = pmf * ls.pdf;
+    float weight = mis ? powerHeuristic(lightPdf, sp.bsdf.pdf(sp.woLocal, wiLocal)) : 1.0f;
+    return f * ls.Li * (weight / lightPdf);
+}
+
+Color emittedOnHit(const Scene& scene, const Intersection& hit, const Ray& ray, const Vec3& prevPoint,
+                   float prevPdf, bool prevDelta) {
+    if (hit.kind == Intersection::Kind::Light) {
+        const Light& light = *scene.lights()[hit.light];
+        Color Le = light.radiance(ray.d);
+        if (prevDelta || isBlack(Le)) return Le;
+        float lightPdf = scene.lightPmf(hit.light) * light.pdf(prevPoint, ray.d, hit.t);
+        return Le * powerHeuristic(prevPdf, lightPdf);
+    }
+    const SurfaceInteraction& si = hit.si;
+    if (!si.material->isEmissive()) return Color(0.0f);
+    if (!si.doubleSided && dot(ray.d, si.ng) > 0) return Color(0.0f);  // back of a one-sided emitter
+    Color Le = si.material->emission(si.uv);
+    if (prevDelta || si.emissiveLight < 0) return Le;
+    float lightPdf = scene.lightPmf(si.emissiveLight) *
+                     scene.lights()[si.emissiveLight]->pdf(prevPoint, ray.d, length(si.p - prevPoint));
+    return Le * powerHeuristic(prevPdf, lightPdf);
+}
+
+Color escapedRadiance(const Scene& scene, const Ray& ray, float prevPdf, bool prevDelta, bool cameraRay) {
+    Color L(0.0f);
+    for (int index : scene.infiniteLights()) {
+        const Light& light = *scene.lights()[index];
+        if (cameraRay && !light.visibleToCamera) continue;
+        Color Le = light.radiance(ray.d);
+        if (isBlack(Le)) continue;
+        if (prevDelta) {
+            L += Le;
+            continue;
+        }
+        float lightPdf = scene.lightPmf(index) * light.pdf(ray.o, ray.d, kInf);
+        L += Le * powerHeuristic(prevPdf, lightPdf);
+    }
+    return L;
+}
+
+void recordAovs(SampleAovs* aovs, const ShadingPoint& sp, float depth) {
+    if (!aovs || aovs->hit) return;
+    aovs->hit = true;
+    aovs->depth = depth;
+    aovs->normal = sp.si.ns;
+    aovs->albedo = sp.bsdf.albedo();
+}
+
+}  // namespace gi

@@ -1,0 +1,43 @@
+// Shared light-transport pieces: next-event estimation with MIS, emission picked up by a
+// BSDF-sampled ray, shading frames and first-hit AOVs.
+#pragma once
+#include "../integrator.h"
+
+namespace gi {
+
+// A shading point ready for BSDF queries: local frame around the shading normal, flipped to
+// the side the ray came from for two-sided opaque surfaces.
+struct ShadingPoint {
+    SurfaceInteraction si;
+    Bsdf bsdf;
+    Frame frame;
+    Vec3 wo;       // world, towards the previous vertex
+    Vec3 woLocal;  // in `frame`
+};
+
+ShadingPoint makeShadingPoint(const SurfaceInteraction& si, const Vec3& wo);
+
+// Direct light at a shading point from one light chosen by power, MIS-weighted against BSDF
+// sampling when `mis` is set (pure light sampling otherwise).
+Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Sampler& sampler, RayStats& stats, bool mis);
+
+// Radiance from an emitter reached by a BSDF-sampled ray, MIS-weighted against light sampling.
+// prevPdf: BSDF pdf of the sampled direction; prevDelta: it came from a delta lobe (no MIS).
+Color emittedOnHit(const Scene& scene, const Intersection& hit, const Ray& ray, const Vec3& prevPoint,
+                   float prevPdf, bool prevDelta);
+// Radiance of infinite lights along an escaping ray, MIS-weighted likewise.
+Color escapedRadiance(const Scene& scene, const Ray& ray, float prevPdf, bool prevDelta, bool cameraRay);
+
+void recordAovs(SampleAovs* aovs, const ShadingPoint& sp, float depth);
+
+// Spawns a ray leaving a surface in direction d.
+inline Ray spawnRay(const SurfaceInteraction& si, const Vec3& d) {
+    Ray r;
+    r.o = offsetRayOrigin(si.p, si.ng, d);
+    r.d = d;
+    r.tMin = 0;
+    r.tMax = kInf;
+    return r;
+}
+
+}  // namespace gi

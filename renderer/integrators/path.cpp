@@ -1,0 +1,72 @@
+// Unidirectional path tracing with next-event estimation, multiple importance sampling
+// (power heuristic) and Russian roulette (thesis 2.4.4). `paths` independent paths continue
+// from each camera sample's first hit; `pathDepth` bounds the scattering vertices of a path
+// and `rayDepth` its specular (delta) vertices.
+#include "path.h"
+
+#include "lighting.h"
+
+namespace gi {
+
+PathIntegrator::PathIntegrator(int paths, int pathDepth, int rayDepth, int rouletteDepth)
+    : paths_(std::max(1, paths)), pathDepth_(pathDepth), rayDepth_(rayDepth), rouletteDepth_(rouletteDepth) {}
+
+Intersection intersectVisible(const Scene& scene, Ray ray, Sampler& sampler, RayStats& stats, bool cameraRay) {
+    // Stochastic presence ("presence" opacity, cut-outs): pass through with probability 1 - opacity.
+    for (int layers = 0; layers < 64; ++layers) {
+        Intersection hit = scene.intersect(ray, stats, cameraRay);
+        if (hit.kind != Intersection::Kind::Surface || !hit.si.material->hasPresence()) return hit;
+        float presence = hit.si.material->presence(hit.si.uv);
+        if (presence >= 1 || sampler.get1D() < presence) return hit;
+        ray.o = offsetRayOrigin(hit.si.p, hit.si.ng, ray.d);
+        if (std::isfinite(ray.tMax)) ray.tMax -= hit.t;
+    }
+    return Intersection();
+}
+
+Color PathIntegrator::Li(const Ray& ray, const Scene& scene, Sampler& sampler, RayStats& stats,
+                         SampleAovs* aovs) const {
+    Intersection hit = intersectVisible(scene, ray, sampler, stats, true);
+    if (hit.kind == Intersection::Kind::None) return escapedRadiance(scene, ray, 0, true, true);
+    Color L = emittedOnHit(scene, hit, ray, ray.o, 0, true);
+    if (hit.kind == Intersection::Kind::Light) return L;
+    ShadingPoint sp = makeShadingPoint(hit.si, -ray.d);
+    recordAovs(aovs, sp, hit.t);
+    if (pathDepth_ <= 0) return L;
+    Color sum(0.0f);
+    for (int i = 0; i < paths_; ++i) sum += continuePath(scene, sp, sampler, stats);
+    return L + sum / float(paths_);
+}
+
+Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler& sampler, RayStats& stats) const {
+    Color L(0.0f), beta(1.0f);
+    int vertices = 1, specularVertices = 0;
+    for (;;) {
+        L += beta * sampleDirectLight(scene, sp, sampler, stats, true);
+        float uLobe = sampler.get1D();
+        BsdfSample bs = sp.bsdf.sample(sp.woLocal, uLobe, sampler.get2D());
+        if (!bs.valid) break;
+        if (bs.delta && ++specularVertices > rayDepth_) break;
+        beta *= bs.weight;
+        if (!isFinite(beta) || isBlack(beta)) break;
+        Vec3 wi = sp.frame.toWorld(bs.wi);
+        Ray next = spawnRay(sp.si, wi);
+        Intersection hit = intersectVisible(scene, next, sampler, stats, false);
+        if (hit.kind == Intersection::Kind::None) {
+            L += beta * escapedRadiance(scene, next, bs.pdf, bs.delta, false);
+            break;
+        }
+        L += beta * emittedOnHit(scene, hit, next, sp.si.p, bs.pdf, bs.delta);
+        if (hit.kind == Intersection::Kind::Light || vertices >= pathDepth_) break;
+        ++vertices;
+        sp = makeShadingPoint(hit.si, -wi);
+        if (vertices > rouletteDepth_) {
+            float q = std::max(0.05f, 1 - maxComponent(beta));
+            if (sampler.get1D() < q) break;
+            beta = beta / (1 - q);
+        }
+    }
+    return L;
+}
+
+}  // namespace gi

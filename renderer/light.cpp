@@ -1,0 +1,504 @@
+#include "light.h"
+
+#include "material.h"
+
+namespace gi {
+
+namespace {
+
+Color baseRadiance(const LightDesc& d) { return d.color * (d.intensity * std::exp2(d.exposure)); }
+
+// Solid-angle pdf of a point sampled uniformly by area.
+float areaToSolidAngle(float areaPdf, float distance, float cosAtLight) {
+    float c = std::fabs(cosAtLight);
+    return c > 1e-8f ? areaPdf * distance * distance / c : 0.0f;
+}
+
+// Shared machinery of the finite area emitters: uniform-area sampling and photon emission.
+class AreaLight : public Light {
+public:
+    struct SurfacePoint {
+        Vec3 p, n;  // n: the emitting side
+    };
+    virtual SurfacePoint samplePoint(Vec2 u) const = 0;
+    virtual float area() const = 0;
+    virtual bool twoSided() const { return false; }
+    virtual Color radianceAt(const SurfacePoint&) const { return L_; }
+
+    LightSample sample(const Vec3& ref, Vec2 u) const override {
+        SurfacePoint s = samplePoint(u);
+        Vec3 d = s.p - ref;
+        float dist = length(d);
+        LightSample ls;
+        if (!(dist > 0)) return ls;
+        ls.wi = d / dist;
+        ls.distance = dist;
+        float cosLight = dot(-ls.wi, s.n);
+        if (cosLight <= 0 && !twoSided()) return ls;
+        ls.pdf = areaToSolidAngle(1 / area(), dist, cosLight);
+        ls.Li = ls.pdf > 0 ? radianceAt(s) : Color(0);
+        return ls;
+    }
+    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&) const override {
+        SurfacePoint s = samplePoint(uPos);
+        Vec3 local = sampleCosineHemisphere(uDir);
+        Vec3 n = s.n;
+        if (twoSided() && uDir.x < 0.5f) {  // reuse the bit: pick a side
+            n = -n;
+            local = sampleCosineHemisphere(Vec2(uDir.x * 2, uDir.y));
+        } else if (twoSided()) {
+            local = sampleCosineHemisphere(Vec2((uDir.x - 0.5f) * 2, uDir.y));
+        }
+        Frame f(n);
+        PhotonEmission e;
+        e.ray.o = offsetRayOrigin(s.p, n, n);
+        e.ray.d = f.toWorld(local);
+        // flux = L * cos / (pdf_area * pdf_dir) = L * A * pi (* 2 for two sides)
+        e.power = radianceAt(s) * (area() * kPi * (twoSided() ? 2.0f : 1.0f));
+        return e;
+    }
+    Color power(const SceneBounds&) const override { return L_ * (area() * kPi * (twoSided() ? 2.0f : 1.0f)); }
+
+protected:
+    Color L_;
+};
+
+class RectLight : public AreaLight {
+public:
+    RectLight(const Vec3& p0, const Vec3& e1, const Vec3& e2, const Vec3& n, Color L) : p0_(p0), e1_(e1), e2_(e2), n_(n) {
+        L_ = L;
+        area_ = length(cross(e1, e2));
+    }
+    SurfacePoint samplePoint(Vec2 u) const override { return {p0_ + e1_ * u.x + e2_ * u.y, n_}; }
+    float area() const override { return area_; }
+    float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
+        return areaToSolidAngle(1 / area_, t, dot(-wi, n_));
+    }
+    Color radiance(const Vec3& wi) const override { return dot(-wi, n_) > 0 ? L_ : Color(0); }
+    float intersect(const Ray& r) const override {
+        Vec3 nn = cross(e1_, e2_);
+        float denom = dot(r.d, nn);
+        if (std::fabs(denom) < 1e-20f) return kInf;
+        float t = dot(p0_ - r.o, nn) / denom;
+        if (!(t > r.tMin && t < r.tMax)) return kInf;
+        Vec3 q = r.o + r.d * t - p0_;
+        float a = dot(q, e1_) / dot(e1_, e1_), b = dot(q, e2_) / dot(e2_, e2_);
+        return (a >= 0 && a <= 1 && b >= 0 && b <= 1) ? t : kInf;
+    }
+
+private:
+    Vec3 p0_, e1_, e2_, n_;
+    float area_;
+};
+
+class DiskLight : public AreaLight {
+public:
+    DiskLight(const Vec3& c, const Vec3& n, float r, Color L) : c_(c), frame_(n), r_(r) { L_ = L; }
+    SurfacePoint samplePoint(Vec2 u) const override {
+        Vec2 d = sampleConcentricDisk(u);
+        return {c_ + frame_.s * (d.x * r_) + frame_.t * (d.y * r_), frame_.n};
+    }
+    float area() const override { return kPi * r_ * r_; }
+    float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
+        return areaToSolidAngle(1 / area(), t, dot(-wi, frame_.n));
+    }
+    Color radiance(const Vec3& wi) const override { return dot(-wi, frame_.n) > 0 ? L_ : Color(0); }
+    float intersect(const Ray& r) const override {
+        float denom = dot(r.d, frame_.n);
+        if (std::fabs(denom) < 1e-20f) return kInf;
+        float t = dot(c_ - r.o, frame_.n) / denom;
+        if (!(t > r.tMin && t < r.tMax)) return kInf;
+        return lengthSquared(r.o + r.d * t - c_) <= r_ * r_ ? t : kInf;
+    }
+
+private:
+    Vec3 c_;
+    Frame frame_;
+    float r_;
+};
+
+// Solves |o + t d - c|^2 = r^2 for the nearest t in (tMin, tMax).
+float intersectSphere(const Ray& r, const Vec3& c, float radius) {
+    Vec3 oc = r.o - c;
+    float b = dot(oc, r.d), cc = dot(oc, oc) - radius * radius, a = dot(r.d, r.d);
+    float disc = b * b - a * cc;
+    if (disc < 0) return kInf;
+    float sq = std::sqrt(disc);
+    float t0 = (-b - sq) / a, t1 = (-b + sq) / a;
+    if (t0 > r.tMin && t0 < r.tMax) return t0;
+    if (t1 > r.tMin && t1 < r.tMax) return t1;
+    return kInf;
+}
+
+class SphereLight : public AreaLight {
+public:
+    SphereLight(const Vec3& c, float r, Color L) : c_(c), r_(r) { L_ = L; }
+    SurfacePoint samplePoint(Vec2 u) const override {
+        Vec3 n = sampleUniformSphere(u);
+        return {c_ + n * r_, n};
+    }
+    float area() const override { return 4 * kPi * r_ * r_; }
+    // Samples the cone the sphere subtends (far less noise than area sampling).
+    LightSample sample(const Vec3& ref, Vec2 u) const override {
+        float d2 = lengthSquared(ref - c_);
+        if (d2 <= r_ * r_ * 1.0001f) return AreaLight::sample(ref, u);
+        float sin2 = r_ * r_ / d2, cosMax = safeSqrt(1 - sin2);
+        Frame f(normalize(c_ - ref));
+        LightSample ls;
+        ls.wi = f.toWorld(sampleUniformCone(u, cosMax));
+        Ray ray{ref, ls.wi, 0, kInf};
+        float t = intersectSphere(ray, c_, r_);
+        if (!std::isfinite(t)) t = std::sqrt(std::max(0.0f, d2 - r_ * r_));  // grazing: tangent distance
+        ls.distance = t;
+        ls.pdf = uniformConePdf(cosMax);
+        ls.Li = L_;
+        return ls;
+    }
+    float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
+        float d2 = lengthSquared(ref - c_);
+        if (d2 <= r_ * r_ * 1.0001f) {
+            Vec3 p = ref + wi * t;
+            return areaToSolidAngle(1 / area(), t, dot(-wi, normalize(p - c_)));
+        }
+        return uniformConePdf(safeSqrt(1 - r_ * r_ / d2));
+    }
+    Color radiance(const Vec3&) const override { return L_; }
+    float intersect(const Ray& r) const override { return intersectSphere(r, c_, r_); }
+
+private:
+    Vec3 c_;
+    float r_;
+};
+
+class CylinderLight : public AreaLight {
+public:
+    CylinderLight(const Vec3& c, const Vec3& axis, float halfLength, float r, Color L)
+        : c_(c), frame_(normalize(axis)), h_(halfLength), r_(r) {
+        L_ = L;
+    }
+    SurfacePoint samplePoint(Vec2 u) const override {
+        float phi = 2 * kPi * u.y;
+        Vec3 n = frame_.s * std::cos(phi) + frame_.t * std::sin(phi);
+        return {c_ + frame_.n * ((2 * u.x - 1) * h_) + n * r_, n};
+    }
+    float area() const override { return 2 * kPi * r_ * 2 * h_; }
+    float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
+        Vec3 p = ref + wi * t - c_;
+        Vec3 radial = p - frame_.n * dot(p, frame_.n);
+        return areaToSolidAngle(1 / area(), t, dot(-wi, normalize(radial)));
+    }
+    Color radiance(const Vec3&) const override { return L_; }
+    float intersect(const Ray& r) const override {
+        Vec3 o = frame_.toLocal(r.o - c_), d = frame_.toLocal(r.d);  // axis = local z
+        float a = d.x * d.x + d.y * d.y, b = o.x * d.x + o.y * d.y, cc = o.x * o.x + o.y * o.y - r_ * r_;
+        if (a < 1e-20f) return kInf;
+        float disc = b * b - a * cc;
+        if (disc < 0) return kInf;
+        float sq = std::sqrt(disc);
+        for (float t : {(-b - sq) / a, (-b + sq) / a})
+            if (t > r.tMin && t < r.tMax && std::fabs(o.z + t * d.z) <= h_) return t;
+        return kInf;
+    }
+
+private:
+    Vec3 c_;
+    Frame frame_;  // n = axis
+    float h_, r_;
+};
+
+class DistantLight : public Light {
+public:
+    DistantLight(const Vec3& towardLight, float halfAngle, Color irradiance)
+        : frame_(towardLight), E_(irradiance) {
+        cosMax_ = std::cos(halfAngle);
+        delta_ = halfAngle < 1e-5f || 1 - cosMax_ < 1e-9f;
+        if (!delta_) L_ = E_ / (kPi * (1 - cosMax_ * cosMax_));  // cone integral of cos is pi sin^2
+    }
+    bool isInfinite() const override { return true; }
+    LightSample sample(const Vec3&, Vec2 u) const override {
+        LightSample ls;
+        ls.distance = kInf;
+        if (delta_) {
+            ls.wi = frame_.n;
+            ls.Li = E_;
+            ls.pdf = 1;
+            ls.delta = true;
+            return ls;
+        }
+        ls.wi = frame_.toWorld(sampleUniformCone(u, cosMax_));
+        ls.pdf = uniformConePdf(cosMax_);
+        ls.Li = L_;
+        return ls;
+    }
+    float pdf(const Vec3&, const Vec3& wi, float) const override {
+        return !delta_ && dot(wi, frame_.n) >= cosMax_ ? uniformConePdf(cosMax_) : 0;
+    }
+    Color radiance(const Vec3& wi) const override {
+        return !delta_ && dot(wi, frame_.n) >= cosMax_ ? L_ : Color(0);
+    }
+    Color power(const SceneBounds& b) const override { return E_ * (kPi * b.radius * b.radius); }
+    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds& b) const override {
+        // Photons start on a disc facing the light just outside the scene's bounding sphere.
+        Vec3 dir = delta_ ? frame_.n : frame_.toWorld(sampleUniformCone(uDir, cosMax_));
+        Frame f(dir);
+        Vec2 d = sampleConcentricDisk(uPos);
+        PhotonEmission e;
+        e.ray.o = b.center + dir * b.radius + (f.s * d.x + f.t * d.y) * b.radius;
+        e.ray.d = -dir;
+        e.power = E_ * (kPi * b.radius * b.radius);
+        return e;
+    }
+
+private:
+    Frame frame_;
+    Color E_, L_;
+    float cosMax_ = 1;
+    bool delta_ = true;
+};
+
+class DomeLight : public Light {
+public:
+    DomeLight(const Mat4& toWorld, Color scale, std::shared_ptr<Image> image) : scale_(scale), image_(std::move(image)) {
+        toWorld_ = toWorld;
+        toWorld.inverse(toLocal_);
+        if (image_) buildDistribution();
+    }
+    bool isInfinite() const override { return true; }
+    LightSample sample(const Vec3&, Vec2 u) const override {
+        LightSample ls;
+        ls.distance = kInf;
+        if (!image_) {
+            ls.wi = sampleUniformSphere(u);
+            ls.pdf = uniformSpherePdf();
+            ls.Li = scale_;
+            return ls;
+        }
+        float pmfRow, pmfCol, uy, ux;
+        int row = rows_.sample(u.y, &pmfRow, &uy);
+        int col = cols_[row].sample(u.x, &pmfCol, &ux);
+        float s = (col + ux) / image_->width(), t = (row + uy) / image_->height();
+        float theta = t * kPi, phi = s * 2 * kPi - 0.5f * kPi;
+        float sinTheta = std::sin(theta);
+        Vec3 local(sinTheta * std::cos(phi), std::cos(theta), sinTheta * std::sin(phi));
+        ls.wi = normalize(toWorld_.vector(local));
+        float pdfUV = pmfRow * pmfCol * image_->width() * image_->height();
+        ls.pdf = sinTheta > 1e-6f ? pdfUV / (2 * kPi * kPi * sinTheta) : 0;
+        ls.Li = lookup(s, t);
+        return ls;
+    }
+    float pdf(const Vec3&, const Vec3& wi, float) const override {
+        if (!image_) return uniformSpherePdf();
+        float s, t;
+        toST(wi, s, t);
+        int col = std::min(int(s * image_->width()), image_->width() - 1);
+        int row = std::min(int(t * image_->height()), image_->height() - 1);
+        float sinTheta = std::sin(t * kPi);
+        if (sinTheta <= 1e-6f) return 0;
+        return rows_.pmf(row) * cols_[row].pmf(col) * image_->width() * image_->height() / (2 * kPi * kPi * sinTheta);
+    }
+    Color radiance(const Vec3& wi) const override {
+        if (!image_) return scale_;
+        float s, t;
+        toST(wi, s, t);
+        return lookup(s, t);
+    }
+    Color power(const SceneBounds& b) const override {
+        return average_ * (4 * kPi * kPi * b.radius * b.radius);
+    }
+    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds& b) const override {
+        LightSample ls = sample(b.center, uDir);
+        Frame f(ls.wi);
+        Vec2 d = sampleConcentricDisk(uPos);
+        PhotonEmission e;
+        e.ray.o = b.center + ls.wi * b.radius + (f.s * d.x + f.t * d.y) * b.radius;
+        e.ray.d = -ls.wi;
+        e.power = ls.pdf > 0 ? ls.Li * (kPi * b.radius * b.radius / ls.pdf) : Color(0);
+        return e;
+    }
+
+private:
+    // Storm's lat-long convention (hdSt surfaceHelpers ProjectToLatLong): +Y up, +Z at s = 0.
+    void toST(const Vec3& wi, float& s, float& t) const {
+        Vec3 d = normalize(toLocal_.vector(wi));
+        s = (std::atan2(d.z, d.x) + 0.5f * kPi) / (2 * kPi);
+        if (s < 0) s += 1;
+        if (s >= 1) s -= 1;
+        t = std::acos(std::clamp(d.y, -1.0f, 1.0f)) / kPi;
+    }
+    Color lookup(float s, float t) const {
+        float px[4];
+        image_->lookup(s, 1 - t, kWrapRepeat, kWrapClamp, px);
+        return scale_ * Color(px[0], px[1], px[2]);
+    }
+    void buildDistribution() {
+        int w = image_->width(), h = image_->height();
+        std::vector<float> rowWeights(h);
+        double sum = 0;
+        cols_.clear();
+        for (int y = 0; y < h; ++y) {
+            float sinTheta = std::sin((y + 0.5f) * kPi / h);
+            std::vector<float> weights(w);
+            double rowSum = 0;
+            for (int x = 0; x < w; ++x) {
+                const float* t = image_->texel(x, y);
+                float lum = luminance(Color(t[0], t[1], t[2]));
+                weights[x] = lum * sinTheta;
+                rowSum += weights[x];
+                sum += lum * sinTheta;
+            }
+            cols_.emplace_back(weights.data(), w);
+            rowWeights[y] = float(rowSum);
+        }
+        rows_ = Distribution1D(rowWeights.data(), h);
+        // Mean radiance over the sphere (solid-angle weighted) for the power estimate.
+        double avg[3] = {0, 0, 0}, wsum = 0;
+        for (int y = 0; y < h; ++y) {
+            float sinTheta = std::sin((y + 0.5f) * kPi / h);
+            for (int x = 0; x < w; ++x) {
+                const float* t = image_->texel(x, y);
+                for (int c = 0; c < 3; ++c) avg[c] += t[c] * sinTheta;
+                wsum += sinTheta;
+            }
+        }
+        average_ = scale_ * Color(float(avg[0] / wsum), float(avg[1] / wsum), float(avg[2] / wsum));
+    }
+
+    Mat4 toWorld_, toLocal_;
+    Color scale_;
+    Color average_{0.0f};
+    std::shared_ptr<Image> image_;
+    Distribution1D rows_;
+    std::vector<Distribution1D> cols_;
+
+public:
+    void setConstantAverage() { average_ = scale_; }
+};
+
+class TriangleLight : public AreaLight {
+public:
+    TriangleLight(const Vec3 p[3], const Vec2 uv[3], const Material* m, bool twoSided)
+        : material_(m), twoSided_(twoSided) {
+        for (int i = 0; i < 3; ++i) {
+            p_[i] = p[i];
+            uv_[i] = uv[i];
+        }
+        Vec3 c = cross(p[1] - p[0], p[2] - p[0]);
+        area_ = 0.5f * length(c);
+        n_ = normalize(c);
+        L_ = m->emission(Vec2((uv[0].x + uv[1].x + uv[2].x) / 3, (uv[0].y + uv[1].y + uv[2].y) / 3));
+    }
+    SurfacePoint samplePoint(Vec2 u) const override {
+        Vec2 b = sampleUniformTriangle(u);
+        return {p_[0] * b.x + p_[1] * b.y + p_[2] * (1 - b.x - b.y), n_};
+    }
+    LightSample sample(const Vec3& ref, Vec2 u) const override {
+        Vec2 b = sampleUniformTriangle(u);
+        Vec3 p = p_[0] * b.x + p_[1] * b.y + p_[2] * (1 - b.x - b.y);
+        Vec3 d = p - ref;
+        float dist = length(d);
+        LightSample ls;
+        if (!(dist > 0)) return ls;
+        ls.wi = d / dist;
+        ls.distance = dist;
+        float cosLight = dot(-ls.wi, n_);
+        if (cosLight <= 0 && !twoSided_) return ls;
+        ls.pdf = areaToSolidAngle(1 / area_, dist, cosLight);
+        Vec2 uv = uv_[0] * b.x + uv_[1] * b.y + uv_[2] * (1 - b.x - b.y);
+        ls.Li = ls.pdf > 0 ? material_->emission(uv) : Color(0);
+        return ls;
+    }
+    float area() const override { return area_; }
+    bool twoSided() const override { return twoSided_; }
+    float pdf(const Vec3&, const Vec3& wi, float t) const override {
+        return areaToSolidAngle(1 / area_, t, dot(-wi, n_));
+    }
+    Color radiance(const Vec3&) const override { return L_; }  // hits use the material directly
+
+private:
+    Vec3 p_[3], n_;
+    Vec2 uv_[3];
+    const Material* material_;
+    bool twoSided_;
+    float area_;
+};
+
+bool finite(const LightDesc& d) {
+    float v[] = {d.color.x, d.color.y, d.color.z, d.intensity, d.exposure, d.width, d.height, d.radius, d.length, d.angle};
+    for (float x : v)
+        if (!std::isfinite(x)) return false;
+    return d.transform.isFinite();
+}
+
+}  // namespace
+
+std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
+    if (!finite(d)) {
+        warning = "light " + d.name + ": NaN or Inf in its parameters or transform; ignored";
+        return nullptr;
+    }
+    Color L = baseRadiance(d);
+    if (!(maxComponent(L) > 0)) {
+        warning = "light " + d.name + ": zero or negative intensity; ignored";
+        return nullptr;
+    }
+    L = vmax(L, Color(0.0f));
+    const Mat4& m = d.transform;
+    std::unique_ptr<Light> light;
+    auto scaled = [&](float area) -> bool {
+        if (!(area > 0) || !std::isfinite(area)) {
+            warning = "light " + d.name + ": zero area; ignored";
+            return false;
+        }
+        if (d.normalize) L = L / area;
+        return true;
+    };
+    if (d.kind == "rect") {
+        Vec3 p0 = m.point(Vec3(-d.width / 2, -d.height / 2, 0));
+        Vec3 e1 = m.vector(Vec3(d.width, 0, 0)), e2 = m.vector(Vec3(0, d.height, 0));
+        if (!scaled(length(cross(e1, e2)))) return nullptr;
+        light = std::make_unique<RectLight>(p0, e1, e2, normalize(m.normal(Vec3(0, 0, -1))), L);
+    } else if (d.kind == "disk") {
+        float r = d.radius * std::sqrt(length(m.vector(Vec3(1, 0, 0))) * length(m.vector(Vec3(0, 1, 0))));
+        if (!scaled(kPi * r * r)) return nullptr;
+        light = std::make_unique<DiskLight>(m.point(Vec3(0.0f)), normalize(m.normal(Vec3(0, 0, -1))), r, L);
+    } else if (d.kind == "sphere") {
+        float s = std::cbrt(std::fabs(float(m.det3())));
+        float r = d.radius * s;
+        if (!scaled(4 * kPi * r * r)) return nullptr;
+        light = std::make_unique<SphereLight>(m.point(Vec3(0.0f)), r, L);
+    } else if (d.kind == "cylinder") {
+        Vec3 axis = m.vector(Vec3(d.length / 2, 0, 0));
+        float r = d.radius * std::sqrt(length(m.vector(Vec3(0, 1, 0))) * length(m.vector(Vec3(0, 0, 1))));
+        float h = length(axis);
+        if (!scaled(2 * kPi * r * 2 * h)) return nullptr;
+        light = std::make_unique<CylinderLight>(m.point(Vec3(0.0f)), axis, h, r, L);
+    } else if (d.kind == "distant") {
+        float halfAngle = std::clamp(d.angle, 0.0f, 180.0f) * 0.5f * kPi / 180.0f;
+        light = std::make_unique<DistantLight>(normalize(m.vector(Vec3(0, 0, 1))), halfAngle, L);
+    } else if (d.kind == "dome") {
+        std::shared_ptr<Image> image;
+        if (!d.textureFile.empty()) {
+            std::string error;
+            image = Image::load(d.textureFile, "auto", error);
+            if (!image) warning = "light " + d.name + ": cannot read texture " + d.textureFile + " (" + error + "); using its color";
+        }
+        auto dome = std::make_unique<DomeLight>(m, L, image);
+        if (!image) dome->setConstantAverage();
+        light = std::move(dome);
+    } else {
+        warning = "light " + d.name + ": unsupported light kind '" + d.kind + "'; ignored";
+        return nullptr;
+    }
+    light->name = d.name;
+    light->visibleToCamera = d.visibleToCamera;
+    return light;
+}
+
+std::unique_ptr<Light> createTriangleLight(const Vec3 p[3], const Vec2 uv[3], const Material* material,
+                                           bool doubleSided, const std::string& name) {
+    auto light = std::make_unique<TriangleLight>(p, uv, material, doubleSided);
+    light->name = name;
+    return light;
+}
+
+}  // namespace gi

@@ -1,0 +1,77 @@
+// UsdLux lights and emissive triangles. Radiance follows UsdLux: color * intensity *
+// 2^exposure, divided by the world-space area when `normalize` is on. A distant light's
+// intensity is its irradiance at normal incidence, whatever its angular size.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "math.h"
+#include "sampling.h"
+#include "texture.h"
+
+namespace gi {
+
+struct LightDesc {
+    std::string name;
+    std::string kind = "rect";  // rect | disk | sphere | cylinder | distant | dome
+    Color color{1.0f};
+    float intensity = 1;
+    float exposure = 0;
+    bool normalize = false;
+    float width = 1, height = 1, radius = 0.5f, length = 1, angle = 0.53f;
+    std::string textureFile;
+    Mat4 transform;
+    bool visibleToCamera = true;
+};
+
+struct SceneBounds {
+    Vec3 center{0.0f};
+    float radius = 1;
+};
+
+struct LightSample {
+    Vec3 wi;         // unit direction from the reference point to the light
+    float distance;  // to the sampled point (infinite for distant/dome)
+    Color Li;        // radiance arriving along -wi
+    float pdf = 0;   // solid angle; for delta lights 1 with `delta` set
+    bool delta = false;
+};
+
+struct PhotonEmission {
+    Ray ray;
+    Color power;  // flux carried, already divided by the sampling pdfs
+};
+
+class Light {
+public:
+    virtual ~Light() = default;
+    virtual LightSample sample(const Vec3& ref, Vec2 u) const = 0;
+    // Solid-angle pdf that sample() would produce wi from ref, reaching the light at distance t.
+    virtual float pdf(const Vec3& ref, const Vec3& wi, float t) const = 0;
+    // Radiance leaving the light towards -wi at a ray-light intersection (or escaping, for infinite lights).
+    virtual Color radiance(const Vec3& wi) const = 0;
+    // Analytic ray intersection for area lights (they are not in the BVH); returns t or inf.
+    virtual float intersect(const Ray&) const { return kInf; }
+    virtual Color power(const SceneBounds&) const = 0;
+    virtual PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&) const = 0;
+    virtual bool isInfinite() const { return false; }
+    virtual void preprocess(const SceneBounds& bounds) { bounds_ = bounds; }
+
+    std::string name;
+    bool visibleToCamera = true;
+
+protected:
+    SceneBounds bounds_;
+};
+
+// Builds the light for a descriptor; returns nullptr and a message for unusable input
+// (NaN parameters, zero area, non-positive or non-finite radiance).
+std::unique_ptr<Light> createLight(const LightDesc& desc, std::string& warning);
+
+// One emissive triangle of a mesh (world space); radiance from the material at the sampled uv.
+class Material;
+std::unique_ptr<Light> createTriangleLight(const Vec3 p[3], const Vec2 uv[3], const Material* material,
+                                           bool doubleSided, const std::string& name);
+
+}  // namespace gi

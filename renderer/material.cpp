@@ -1,0 +1,86 @@
+#include "material.h"
+
+namespace gi {
+
+namespace {
+Color sanitize(Color c) {
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(c[i]) || c[i] < 0) c[i] = 0;
+    return c;
+}
+float sanitize01(float v, float fallback) { return std::isfinite(v) ? clamp01(v) : fallback; }
+}  // namespace
+
+Material::Material(const MaterialDesc& desc, const TextureBinder& bindTexture) : desc_(desc) {
+    auto bind = [&](Texture& slot, const TextureDesc& t, const char* input) {
+        if (!t.file.empty()) slot = bindTexture(t, input);
+    };
+    bind(diffuseTex_, desc.diffuseColorTexture, "diffuseColor");
+    bind(emissiveTex_, desc.emissiveColorTexture, "emissiveColor");
+    bind(specularTex_, desc.specularColorTexture, "specularColor");
+    bind(metallicTex_, desc.metallicTexture, "metallic");
+    bind(roughnessTex_, desc.roughnessTexture, "roughness");
+    bind(opacity_, desc.opacityTexture, "opacity");
+    desc_.diffuseColor = sanitize(desc.diffuseColor);
+    desc_.emissiveColor = sanitize(desc.emissiveColor);
+    desc_.specularColor = sanitize(desc.specularColor);
+    desc_.metallic = sanitize01(desc.metallic, 0);
+    desc_.roughness = sanitize01(desc.roughness, 0.5f);
+    desc_.clearcoat = sanitize01(desc.clearcoat, 0);
+    desc_.clearcoatRoughness = sanitize01(desc.clearcoatRoughness, 0.01f);
+    desc_.opacity = sanitize01(desc.opacity, 1);
+    emissive_ = maxComponent(desc_.emissiveColor) > 0 || emissiveTex_.valid();
+    hasPresence_ = desc_.opacityMode == "presence" || desc_.opacityThreshold > 0;
+    // Caustic paths need a smooth reflector or a transmitter somewhere; rough lobes blur them
+    // into ordinary indirect light that the global photon map already carries.
+    constexpr float kCausticRoughness = 0.2f;
+    bool reflectsSpecularly = desc_.useSpecularWorkflow ? maxComponent(desc_.specularColor) > 0 || specularTex_.valid()
+                                                        : true;  // metallic workflow always has a Fresnel lobe
+    specular_ = transmits() || (desc_.roughness < kCausticRoughness && reflectsSpecularly) ||
+                (desc_.clearcoat > 0 && desc_.clearcoatRoughness < kCausticRoughness);
+}
+
+Color Material::emission(Vec2 uv) const {
+    if (emissiveTex_.valid()) return sanitize(emissiveTex_.evalColor(uv));
+    return desc_.emissiveColor;
+}
+
+float Material::presence(Vec2 uv) const {
+    if (!hasPresence_) return 1;
+    float a = opacity_.valid() ? opacity_.evalFloat(uv) : desc_.opacity;
+    a = sanitize01(a, 1);
+    if (desc_.opacityThreshold > 0) return a >= desc_.opacityThreshold ? 1.0f : 0.0f;
+    return a;
+}
+
+Bsdf Material::bsdf(Vec2 uv) const {
+    BsdfParams p;
+    Color base = diffuseTex_.valid() ? sanitize(diffuseTex_.evalColor(uv)) : desc_.diffuseColor;
+    base = vmin(base, Color(1.0f));
+    float roughness = roughnessTex_.valid() ? sanitize01(roughnessTex_.evalFloat(uv), 0.5f) : desc_.roughness;
+    float opacity = 1;
+    if (desc_.opacityMode == "transparent")
+        opacity = opacity_.valid() ? sanitize01(opacity_.evalFloat(uv), 1) : desc_.opacity;
+    p.roughness = roughness;
+    p.clearcoat = desc_.clearcoat;
+    p.clearcoatRoughness = desc_.clearcoatRoughness;
+    p.ior = desc_.ior;
+    p.transmission = 1 - opacity;
+    p.transmissionTint = base;
+    if (desc_.useSpecularWorkflow) {
+        Color spec = specularTex_.valid() ? sanitize(specularTex_.evalColor(uv)) : desc_.specularColor;
+        p.specularF0 = vmin(spec, Color(1.0f));
+        // Filament's trick: a black specular colour means no specular at grazing angles either.
+        p.specularF90 = clamp01(50.0f * maxComponent(p.specularF0));
+        p.diffuse = base;
+    } else {
+        float metallic = metallicTex_.valid() ? sanitize01(metallicTex_.evalFloat(uv), 0) : desc_.metallic;
+        float r = (1 - p.ior) / (1 + p.ior);
+        p.specularF0 = lerp(Color(r * r), base, metallic);
+        p.specularF90 = 1;
+        p.diffuse = base * (1 - metallic);
+    }
+    return Bsdf(p);
+}
+
+}  // namespace gi

@@ -1,0 +1,152 @@
+#include "render.h"
+
+#include <sys/resource.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <stdexcept>
+
+namespace gi {
+
+namespace {
+constexpr int kTileSize = 16;
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+CameraDesc defaultCamera(const Scene& scene) {
+    // No camera: look at the scene's bounding sphere from +Z.
+    CameraDesc c;
+    c.name = "<default camera>";
+    const SceneBounds& b = scene.bounds();
+    float distance = b.radius / std::tan(0.5f * 2 * std::atan(0.5f * c.verticalAperture / c.focalLength)) * 1.1f;
+    c.transform.m[3][0] = b.center.x;
+    c.transform.m[3][1] = b.center.y;
+    c.transform.m[3][2] = b.center.z + distance;
+    return c;
+}
+}  // namespace
+
+size_t peakResidentMemoryBytes() {
+    struct rusage usage;
+    getrusage(RUSAGE_SELF, &usage);
+    return size_t(usage.ru_maxrss) * 1024;  // Linux reports kilobytes
+}
+
+Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
+    : scene_(scene), settings_(settings), film_(std::max(1, settings.width), std::max(1, settings.height),
+                                                  Filter::byName(settings.filter)) {
+    if (settings.width <= 0 || settings.height <= 0 || settings.width > 65536 || settings.height > 65536)
+        throw std::invalid_argument("resolution " + std::to_string(settings.width) + "x" +
+                                    std::to_string(settings.height) + " is out of range");
+    if (!scene.committed()) throw std::logic_error("the scene must be committed before rendering");
+    const IntegratorInfo* info = findIntegrator(settings.integrator);
+    if (!info) {
+        std::string names;
+        for (const auto& i : integratorRegistry()) names += (names.empty() ? "" : ", ") + i.name;
+        throw std::invalid_argument("unknown integrator '" + settings.integrator + "' (have: " + names + ")");
+    }
+    integrator_ = info->create(settings.params);
+    camera_ = Camera(scene.hasCamera() ? scene.cameraDesc() : defaultCamera(scene), settings.width, settings.height);
+}
+
+void Renderer::preprocess(const std::atomic<bool>* cancel) {
+    if (preprocessed_) return;
+    auto start = Clock::now();
+    PreprocessContext context{scene_, camera_, settings_.width, settings_.height, settings_.seed, cancel};
+    tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
+    arena.execute([&] { integrator_->preprocess(context); });
+    stats_.preprocessSeconds += secondsSince(start);
+    preprocessed_ = true;
+}
+
+void Renderer::reset() {
+    film_.clear();
+    samplesTaken_ = 0;
+    progress_ = 0;
+}
+
+bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* cancel) {
+    preprocess(cancel);
+    auto start = Clock::now();
+    int w = settings_.width, h = settings_.height;
+    int tilesX = (w + kTileSize - 1) / kTileSize, tilesY = (h + kTileSize - 1) / kTileSize;
+    int tileCount = tilesX * tilesY;
+    std::vector<std::unique_ptr<FilmTile>> tiles(tileCount);
+    struct ThreadCounters {
+        RayStats rays;
+        uint64_t samples = 0, nonFinite = 0;
+    };
+    tbb::enumerable_thread_specific<ThreadCounters> counters;
+    std::atomic<int> done{0};
+    Vec3 forward = camera_.forward();
+    tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(0, tileCount, [&](int t) {
+            if (cancel && cancel->load(std::memory_order_relaxed)) return;
+            int x0 = (t % tilesX) * kTileSize, y0 = (t / tilesX) * kTileSize;
+            auto tile = std::make_unique<FilmTile>(x0, y0, std::min(x0 + kTileSize, w), std::min(y0 + kTileSize, h),
+                                                   film_.filter());
+            ThreadCounters& c = counters.local();
+            Sampler sampler(settings_.seed);
+            for (int y = tile->y0; y < tile->y1; ++y)
+                for (int x = tile->x0; x < tile->x1; ++x)
+                    for (int s = firstSample; s < firstSample + count; ++s) {
+                        sampler.start(x, y, uint32_t(s));
+                        Vec2 pixel = sampler.get2D();
+                        Vec2 lens = sampler.get2D();
+                        float fx = x + pixel.x, fy = y + pixel.y;
+                        Ray ray = camera_.generateRay(fx, fy, lens);
+                        SampleAovs aovs;
+                        Color L = integrator_->Li(ray, scene_, sampler, c.rays, &aovs);
+                        if (!isFinite(L) || L.x < 0 || L.y < 0 || L.z < 0) {
+                            ++c.nonFinite;  // never let one bad sample poison the image
+                            L = isFinite(L) ? vmax(L, Color(0.0f)) : Color(0.0f);
+                        }
+                        aovs.depth *= dot(ray.d, forward);  // distance along the view axis, as EXR Z
+                        tile->addSample(fx, fy, L, aovs);
+                        ++c.samples;
+                    }
+            tiles[t] = std::move(tile);
+            int finished = ++done;
+            double target = std::max(1, settings_.spp);
+            progress_.store(std::min(1.0, (firstSample + double(finished) / tileCount * count) / target),
+                            std::memory_order_relaxed);
+        });
+    });
+    // Merged in tile order after the pass: the image does not depend on thread timing.
+    for (auto& tile : tiles)
+        if (tile) film_.merge(*tile);
+    bool complete = true;
+    for (auto& tile : tiles) complete = complete && tile != nullptr;
+    for (const ThreadCounters& c : counters) {
+        stats_.rays += c.rays.rays;
+        stats_.cameraSamples += c.samples;
+        stats_.nonFiniteSamples += c.nonFinite;
+    }
+    stats_.renderSeconds += secondsSince(start);
+    if (complete) samplesTaken_ = std::max(samplesTaken_, firstSample + count);
+    stats_.spp = samplesTaken_;
+    return complete;
+}
+
+void Renderer::render(const std::atomic<bool>* cancel) {
+    auto start = Clock::now();
+    preprocess(cancel);
+    int target = std::max(1, settings_.spp);
+    // Passes grow geometrically so the time limit is checked often early on and rarely later.
+    int pass = 1;
+    while (samplesTaken_ < target) {
+        if (cancel && cancel->load()) break;
+        int count = std::min(pass, target - samplesTaken_);
+        if (!renderPass(samplesTaken_, count, cancel)) break;
+        if (settings_.timeLimit > 0 && secondsSince(start) >= settings_.timeLimit) break;
+        pass = std::min(pass * 2, 64);
+    }
+    stats_.seconds = secondsSince(start);
+    stats_.peakMemoryBytes = peakResidentMemoryBytes();
+    stats_.integrator = integrator_->statistics();
+}
+
+}  // namespace gi

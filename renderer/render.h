@@ -1,0 +1,66 @@
+// The renderer (thesis 3.1): preprocess the integrator, then sample the image in tiles on all
+// threads, in passes, so that a render can be progressive, time-limited and cancelled.
+#pragma once
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "film.h"
+#include "integrator.h"
+
+namespace gi {
+
+struct RenderSettings {
+    int width = 512, height = 512;
+    int spp = 16;
+    std::string integrator = "path";
+    ParamSet params;
+    uint32_t seed = 0;
+    int threads = 0;         // 0 = all hardware threads
+    double timeLimit = 0;    // seconds; 0 = none (stops after a whole pass once exceeded)
+    std::string filter = "box";
+};
+
+struct RenderStats {
+    double seconds = 0, preprocessSeconds = 0, renderSeconds = 0;
+    uint64_t rays = 0, cameraSamples = 0, nonFiniteSamples = 0;
+    int spp = 0;
+    size_t peakMemoryBytes = 0;
+    std::map<std::string, double> integrator;
+};
+
+class Renderer {
+public:
+    // Throws std::invalid_argument for an unknown integrator or a bad resolution.
+    Renderer(const Scene& scene, const RenderSettings& settings);
+    void preprocess(const std::atomic<bool>* cancel = nullptr);
+    // Adds samples [first, first + count) of every pixel to the film. Returns false if cancelled.
+    bool renderPass(int firstSample, int count, const std::atomic<bool>* cancel = nullptr);
+    // Preprocess plus passes up to settings.spp (or the time limit).
+    void render(const std::atomic<bool>* cancel = nullptr);
+    // Fraction of settings.spp done, updated after every tile; safe to read from any thread.
+    double progress() const { return progress_.load(std::memory_order_relaxed); }
+
+    const Film& film() const { return film_; }
+    const RenderStats& stats() const { return stats_; }
+    int samplesTaken() const { return samplesTaken_; }
+    const Camera& camera() const { return camera_; }
+    void reset();  // clears the film, keeps the preprocessed integrator
+
+private:
+    const Scene& scene_;
+    RenderSettings settings_;
+    Camera camera_;
+    std::unique_ptr<Integrator> integrator_;
+    Film film_;
+    RenderStats stats_;
+    int samplesTaken_ = 0;
+    bool preprocessed_ = false;
+    std::atomic<double> progress_{0};
+};
+
+size_t peakResidentMemoryBytes();
+
+}  // namespace gi

@@ -1,0 +1,502 @@
+#include "scene.h"
+
+#include <chrono>
+#include <filesystem>
+#include <sstream>
+
+namespace gi {
+
+namespace {
+
+void embreeErrorHandler(void* userPtr, RTCError code, const char* message) {
+    static_cast<const Scene*>(userPtr)->warn(std::string("Embree error ") + std::to_string(int(code)) + ": " +
+                                             (message ? message : ""));
+}
+
+bool isSimilarity(const Mat4& m) {
+    Vec3 a = m.vector(Vec3(1, 0, 0)), b = m.vector(Vec3(0, 1, 0)), c = m.vector(Vec3(0, 0, 1));
+    float la = length(a), lb = length(b), lc = length(c);
+    float tol = 1e-4f * std::max(la, std::max(lb, lc));
+    return std::fabs(la - lb) < tol && std::fabs(la - lc) < tol && std::fabs(dot(a, b)) < tol * la &&
+           std::fabs(dot(a, c)) < tol * la && std::fabs(dot(b, c)) < tol * lb;
+}
+
+}  // namespace
+
+Scene::Scene() {
+    device_ = rtcNewDevice(nullptr);
+    rtcSetDeviceErrorFunction(device_, embreeErrorHandler, this);
+}
+
+Scene::~Scene() {
+    for (auto& p : prototypes_)
+        if (p.rtc) rtcReleaseScene(p.rtc);
+    if (top_) rtcReleaseScene(top_);
+    rtcReleaseDevice(device_);
+}
+
+void Scene::warn(const std::string& message) const {
+    std::lock_guard<std::mutex> lock(warningsMutex_);
+    warnings_.push_back(message);
+}
+
+std::vector<std::string> Scene::warnings() const {
+    std::lock_guard<std::mutex> lock(warningsMutex_);
+    return warnings_;
+}
+
+int Scene::addMaterial(const MaterialDesc& desc) {
+    materialDescs_.push_back(desc);
+    return int(materialDescs_.size()) - 1;
+}
+
+int Scene::defaultMaterial() {
+    if (defaultMaterial_ < 0) {
+        MaterialDesc d;
+        d.name = "<default grey diffuse>";
+        d.useSpecularWorkflow = true;
+        defaultMaterial_ = addMaterial(d);
+    }
+    return defaultMaterial_;
+}
+
+int Scene::addPrototype(const std::string& name) {
+    prototypes_.push_back(Prototype{name});
+    return int(prototypes_.size()) - 1;
+}
+
+int Scene::addMesh(const std::string& name, std::vector<Vec3> positions, std::vector<uint32_t> indices,
+                   std::vector<Vec3> normals, std::vector<Vec2> uvs, int material, const Mat4* transform,
+                   bool doubleSided, int prototype) {
+    if (prototype >= int(prototypes_.size())) {
+        warn("mesh " + name + ": unknown prototype " + std::to_string(prototype) + "; ignored");
+        return -1;
+    }
+    if (transform && !transform->isFinite()) {
+        warn("mesh " + name + ": NaN or Inf in its transform; ignored");
+        return -1;
+    }
+    if (material < 0 || material >= int(materialDescs_.size())) material = defaultMaterial();
+    if (!normals.empty() && normals.size() != positions.size()) {
+        warn("mesh " + name + ": " + std::to_string(normals.size()) + " normals for " +
+             std::to_string(positions.size()) + " points; normals ignored");
+        normals.clear();
+    }
+    if (!uvs.empty() && uvs.size() != positions.size()) {
+        warn("mesh " + name + ": st has the wrong length; ignored");
+        uvs.clear();
+    }
+    // Bake the transform into top-level meshes; prototypes keep object space.
+    if (transform && prototype < 0) {
+        for (Vec3& p : positions) p = transform->point(p);
+        for (Vec3& n : normals) n = normalize(transform->normal(n));
+    }
+    size_t badNormals = 0, badUvs = 0;
+    for (Vec3& n : normals)
+        if (!isFinite(n) || lengthSquared(n) < 1e-12f) {
+            n = Vec3(0.0f);  // shading falls back to the geometric normal
+            ++badNormals;
+        }
+    for (Vec2& uv : uvs)
+        if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
+            uv = Vec2(0, 0);
+            ++badUvs;
+        }
+    // Keep only triangles with valid indices, finite points and non-zero area.
+    std::vector<uint32_t> kept;
+    kept.reserve(indices.size());
+    size_t outOfRange = 0, nonFinite = 0, degenerate = 0;
+    for (size_t i = 0; i + 2 < indices.size(); i += 3) {
+        uint32_t a = indices[i], b = indices[i + 1], c = indices[i + 2];
+        if (a >= positions.size() || b >= positions.size() || c >= positions.size()) {
+            ++outOfRange;
+            continue;
+        }
+        if (!isFinite(positions[a]) || !isFinite(positions[b]) || !isFinite(positions[c])) {
+            ++nonFinite;
+            continue;
+        }
+        Vec3 cr = cross(positions[b] - positions[a], positions[c] - positions[a]);
+        if (!(lengthSquared(cr) > 0)) {
+            ++degenerate;
+            continue;
+        }
+        kept.insert(kept.end(), {a, b, c});
+    }
+    auto report = [&](size_t count, const char* what) {
+        if (count) warn("mesh " + name + ": " + std::to_string(count) + " " + what);
+    };
+    report(outOfRange, "triangles with out-of-range indices dropped");
+    report(nonFinite, "triangles with NaN or Inf points dropped");
+    report(degenerate, "degenerate (zero-area) triangles dropped");
+    report(badNormals, "NaN or zero normals replaced by the geometric normal");
+    report(badUvs, "NaN st values set to 0");
+    if (indices.size() % 3) warn("mesh " + name + ": index count is not a multiple of 3; the rest is ignored");
+    if (kept.empty()) {
+        warn("mesh " + name + ": no valid triangles; ignored");
+        return -1;
+    }
+    for (Vec3& p : positions)
+        if (!isFinite(p)) p = Vec3(0.0f);  // unreferenced now; keep Embree's bounds finite
+    Shape s;
+    s.name = name;
+    s.positions = std::move(positions);
+    s.normals = std::move(normals);
+    s.uvs = std::move(uvs);
+    s.indices = std::move(kept);
+    s.material = material;
+    s.doubleSided = doubleSided;
+    s.prototype = prototype;
+    shapes_.push_back(std::move(s));
+    int id = int(shapes_.size()) - 1;
+    if (prototype >= 0) prototypes_[prototype].shapes.push_back(id);
+    return id;
+}
+
+int Scene::addSphere(const std::string& name, Vec3 center, float radius, int material, const Mat4* transform,
+                     int prototype) {
+    if (!isFinite(center) || !std::isfinite(radius) || !(radius > 0) || (transform && !transform->isFinite())) {
+        warn("sphere " + name + ": NaN, Inf or non-positive radius; ignored");
+        return -1;
+    }
+    if (material < 0 || material >= int(materialDescs_.size())) material = defaultMaterial();
+    if (transform && prototype < 0 && !isSimilarity(*transform)) {
+        // Embree spheres are round: an ellipsoid is a unit sphere under an instance transform.
+        int proto = addPrototype(name);
+        int id = addSphere(name, center, radius, material, nullptr, proto);
+        addInstance(proto, *transform, name);
+        return id;
+    }
+    Shape s;
+    s.name = name;
+    s.isSphere = true;
+    s.center = center;
+    s.radius = radius;
+    if (transform && prototype < 0) {
+        s.center = transform->point(center);
+        s.radius = radius * std::cbrt(std::fabs(float(transform->det3())));
+    }
+    s.material = material;
+    s.prototype = prototype;
+    shapes_.push_back(s);
+    int id = int(shapes_.size()) - 1;
+    if (prototype >= 0) prototypes_[prototype].shapes.push_back(id);
+    return id;
+}
+
+int Scene::addInstance(int prototype, const Mat4& transform, const std::string& name) {
+    if (prototype < 0 || prototype >= int(prototypes_.size())) {
+        warn("instance " + name + ": unknown prototype; ignored");
+        return -1;
+    }
+    Mat4 inv;
+    if (!transform.isFinite() || !transform.inverse(inv)) {
+        warn("instance " + name + ": NaN, Inf or singular transform; ignored");
+        return -1;
+    }
+    instances_.push_back(Instance{name, prototype, transform});
+    return int(instances_.size()) - 1;
+}
+
+int Scene::addLight(const LightDesc& desc) {
+    lightDescs_.push_back(desc);
+    return int(lightDescs_.size()) - 1;
+}
+
+Texture Scene::loadTexture(const TextureDesc& desc, const std::string& materialName, const std::string& input) {
+    Texture t;
+    t.desc = desc;
+    std::string key = desc.file + "|" + desc.sourceColorSpace;
+    auto it = imageCache_.find(key);
+    if (it == imageCache_.end()) {
+        std::string error;
+        std::shared_ptr<Image> image;
+        if (!std::filesystem::exists(desc.file)) error = "file not found";
+        else image = Image::load(desc.file, desc.sourceColorSpace, error);
+        if (!image)
+            warn("material " + materialName + ": " + input + " texture " + desc.file + ": " + error +
+                 "; using the constant value");
+        it = imageCache_.emplace(key, image).first;
+        if (image) {
+            stats_.textureBytes += image->memoryBytes();
+            stats_.textures++;
+        }
+    }
+    t.image = it->second;
+    if (t.image) t.prepare();
+    return t;
+}
+
+void Scene::bindMaterials() {
+    // Textures are read only for materials some geometry uses.
+    std::vector<bool> used(materialDescs_.size(), false);
+    for (const Shape& s : shapes_) used[s.material] = true;
+    materials_.clear();
+    for (size_t i = 0; i < materialDescs_.size(); ++i) {
+        const MaterialDesc& d = materialDescs_[i];
+        Material::TextureBinder binder = [&](const TextureDesc& t, const std::string& input) {
+            return used[i] ? loadTexture(t, d.name, input) : Texture();
+        };
+        materials_.push_back(std::make_unique<Material>(d, binder));
+        if (used[i] && materials_.back()->isSpecular()) hasSpecular_ = true;
+    }
+}
+
+void Scene::buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, int shapeId) {
+    const Shape& s = shapes_[shapeId];
+    RTCGeometry g;
+    if (s.isSphere) {
+        g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+        float* v = static_cast<float*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+        v[0] = s.center.x, v[1] = s.center.y, v[2] = s.center.z, v[3] = s.radius;
+        stats_.spheres++;
+    } else {
+        g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+        float* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                               3 * sizeof(float), s.positions.size()));
+        for (size_t i = 0; i < s.positions.size(); ++i) {
+            v[3 * i] = s.positions[i].x, v[3 * i + 1] = s.positions[i].y, v[3 * i + 2] = s.positions[i].z;
+        }
+        size_t triangles = s.indices.size() / 3;
+        uint32_t* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                       3 * sizeof(uint32_t), triangles));
+        std::copy(s.indices.begin(), s.indices.end(), idx);
+        stats_.triangles += triangles;
+    }
+    rtcCommitGeometry(g);
+    unsigned geomId = rtcAttachGeometry(target, g);
+    rtcReleaseGeometry(g);
+    if (geomToShape.size() <= geomId) geomToShape.resize(geomId + 1, -1);
+    geomToShape[geomId] = shapeId;
+}
+
+void Scene::commit() {
+    if (committed_) return;
+    auto start = std::chrono::steady_clock::now();
+    bindMaterials();
+    top_ = rtcNewScene(device_);
+    rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
+    for (size_t i = 0; i < shapes_.size(); ++i)
+        if (shapes_[i].prototype < 0) buildShapeGeometry(top_, topGeomToShape_, int(i));
+    for (Prototype& p : prototypes_) {
+        p.rtc = rtcNewScene(device_);
+        rtcSetSceneBuildQuality(p.rtc, RTC_BUILD_QUALITY_HIGH);
+        for (int s : p.shapes) {
+            buildShapeGeometry(p.rtc, p.geomToShape, s);
+            if (materials_[shapes_[s].material]->isEmissive()) p.emissive = true;
+        }
+        rtcCommitScene(p.rtc);
+    }
+    for (size_t i = 0; i < instances_.size(); ++i) {
+        const Instance& inst = instances_[i];
+        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, prototypes_[inst.prototype].rtc);
+        // Embree's column-major layout of M^T is exactly USD's row-major M.
+        float m[16];
+        for (int r = 0; r < 4; ++r)
+            for (int c = 0; c < 4; ++c) m[r * 4 + c] = float(inst.toWorld.m[r][c]);
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, m);
+        rtcCommitGeometry(g);
+        unsigned geomId = rtcAttachGeometry(top_, g);
+        rtcReleaseGeometry(g);
+        if (topGeomToShape_.size() <= geomId) topGeomToShape_.resize(geomId + 1, -1);
+        topGeomToShape_[geomId] = -int(i) - 1;
+    }
+    rtcCommitScene(top_);
+    stats_.instances = instances_.size();
+    stats_.prototypes = prototypes_.size();
+
+    RTCBounds b;
+    rtcGetSceneBounds(top_, &b);
+    Vec3 lo(b.lower_x, b.lower_y, b.lower_z), hi(b.upper_x, b.upper_y, b.upper_z);
+    if (isFinite(lo) && isFinite(hi) && hi.x >= lo.x) {
+        bounds_.center = (lo + hi) * 0.5f;
+        bounds_.radius = std::max(1e-3f, length(hi - lo) * 0.5f);
+    }
+    buildLights();
+    stats_.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    committed_ = true;
+}
+
+void Scene::buildLights() {
+    for (const LightDesc& d : lightDescs_) {
+        std::string warning;
+        auto light = createLight(d, warning);
+        if (!warning.empty()) warn(warning);
+        if (light) lights_.push_back(std::move(light));
+    }
+    auto addTriangles = [&](const Shape& s, const Mat4* toWorld) {
+        const Material* m = materials_[s.material].get();
+        int first = int(lights_.size());
+        for (size_t t = 0; t + 2 < s.indices.size(); t += 3) {
+            Vec3 p[3];
+            Vec2 uv[3];
+            for (int k = 0; k < 3; ++k) {
+                uint32_t i = s.indices[t + k];
+                p[k] = toWorld ? toWorld->point(s.positions[i]) : s.positions[i];
+                uv[k] = s.uvs.empty() ? Vec2(0, 0) : s.uvs[i];
+            }
+            lights_.push_back(createTriangleLight(p, uv, m, s.doubleSided, s.name));
+            stats_.emissiveTriangles++;
+        }
+        return first;
+    };
+    for (Shape& s : shapes_)
+        if (s.prototype < 0 && !s.isSphere && materials_[s.material]->isEmissive()) s.lightOffset = addTriangles(s, nullptr);
+    for (const Shape& s : shapes_)
+        if (s.isSphere && materials_[s.material]->isEmissive())
+            warn("sphere " + s.name + ": emissive spheres are lit only when hit, not sampled as lights");
+    for (Instance& inst : instances_) {
+        const Prototype& p = prototypes_[inst.prototype];
+        if (!p.emissive) continue;
+        inst.lightOffset = int(lights_.size());
+        for (int sid : p.shapes)
+            if (!shapes_[sid].isSphere && materials_[shapes_[sid].material]->isEmissive())
+                prototypes_[inst.prototype].relativeLightOffset[sid] =
+                    addTriangles(shapes_[sid], &inst.toWorld) - inst.lightOffset;
+    }
+    std::vector<float> power;
+    for (size_t i = 0; i < lights_.size(); ++i) {
+        lights_[i]->preprocess(bounds_);
+        power.push_back(luminance(lights_[i]->power(bounds_)));
+        if (lights_[i]->isInfinite()) infiniteLights_.push_back(int(i));
+    }
+    if (!power.empty()) lightDistribution_ = Distribution1D(power.data(), int(power.size()));
+    stats_.lights = lights_.size();
+}
+
+SurfaceInteraction Scene::makeInteraction(const Ray& ray, const RTCRayHit& rh) const {
+    SurfaceInteraction si;
+    const RTCHit& h = rh.hit;
+    const Instance* inst = nullptr;
+    int shapeId;
+    if (h.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+        inst = &instances_[-topGeomToShape_[h.instID[0]] - 1];
+        shapeId = prototypes_[inst->prototype].geomToShape[h.geomID];
+        si.instanceId = uint32_t(-topGeomToShape_[h.instID[0]] - 1);
+    } else {
+        shapeId = topGeomToShape_[h.geomID];
+    }
+    const Shape& s = shapes_[shapeId];
+    si.t = rh.ray.tfar;
+    si.p = ray.o + ray.d * si.t;
+    si.primId = h.primID;
+    si.shapeId = uint32_t(shapeId);
+    si.material = materials_[s.material].get();
+    si.doubleSided = s.doubleSided;
+    Vec3 ng, ns;
+    if (s.isSphere) {
+        Vec3 local = inst ? Vec3(0.0f) : si.p - s.center;
+        if (inst) {
+            Mat4 inv;
+            inst->toWorld.inverse(inv);
+            local = inv.point(si.p) - s.center;
+        }
+        Vec3 n = normalize(local);
+        ng = ns = n;
+        si.uv = Vec2(0.5f + std::atan2(n.z, n.x) / (2 * kPi), std::acos(std::clamp(n.y, -1.0f, 1.0f)) / kPi);
+        // Re-project onto the sphere: removes the intersection's float error along the ray.
+        Vec3 surface = s.center + n * s.radius;
+        si.p = inst ? inst->toWorld.point(surface) : surface;
+    } else {
+        uint32_t i0 = s.indices[3 * h.primID], i1 = s.indices[3 * h.primID + 1], i2 = s.indices[3 * h.primID + 2];
+        float b1 = h.u, b2 = h.v, b0 = 1 - b1 - b2;
+        const Vec3 &p0 = s.positions[i0], &p1 = s.positions[i1], &p2 = s.positions[i2];
+        ng = normalize(cross(p1 - p0, p2 - p0));
+        Vec3 objectP = p0 * b0 + p1 * b1 + p2 * b2;
+        si.p = inst ? inst->toWorld.point(objectP) : objectP;
+        ns = ng;
+        if (!s.normals.empty()) {
+            Vec3 n = s.normals[i0] * b0 + s.normals[i1] * b1 + s.normals[i2] * b2;
+            if (lengthSquared(n) > 1e-12f) ns = normalize(n);
+        }
+        if (!s.uvs.empty()) si.uv = s.uvs[i0] * b0 + s.uvs[i1] * b1 + s.uvs[i2] * b2;
+        if (si.material->isEmissive()) {
+            if (!inst && s.lightOffset >= 0) si.emissiveLight = s.lightOffset + int(h.primID);
+            if (inst && inst->lightOffset >= 0) {
+                auto it = prototypes_[inst->prototype].relativeLightOffset.find(shapeId);
+                if (it != prototypes_[inst->prototype].relativeLightOffset.end())
+                    si.emissiveLight = inst->lightOffset + it->second + int(h.primID);
+            }
+        }
+    }
+    if (inst) {
+        ng = normalize(inst->toWorld.normal(ng));
+        ns = normalize(inst->toWorld.normal(ns));
+        if (inst->toWorld.det3() < 0) {  // mirroring flips the winding
+            ng = -ng;
+            ns = -ns;
+        }
+    }
+    if (dot(ns, ng) < 0) ns = -ns;  // keep authored normals on the geometric side's hemisphere
+    si.ng = ng;
+    si.ns = ns;
+    return si;
+}
+
+Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) const {
+    ++stats.rays;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    RTCRayHit rh;
+    rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
+    rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
+    rh.ray.tnear = ray.tMin;
+    rh.ray.tfar = std::isfinite(ray.tMax) ? ray.tMax : std::numeric_limits<float>::max();
+    rh.ray.time = 0;
+    rh.ray.mask = 0xffffffffu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(top_, &context, &rh);
+    Intersection result;
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+        result.kind = Intersection::Kind::Surface;
+        result.t = rh.ray.tfar;
+    }
+    // Area lights are few and analytic: test them after the BVH, up to the surface hit.
+    Ray lightRay = ray;
+    lightRay.tMax = result.t;
+    for (size_t i = 0; i < lights_.size(); ++i) {
+        if (cameraRay && !lights_[i]->visibleToCamera) continue;
+        float t = lights_[i]->intersect(lightRay);
+        if (t < lightRay.tMax) {
+            lightRay.tMax = t;
+            result.kind = Intersection::Kind::Light;
+            result.light = int(i);
+            result.t = t;
+        }
+    }
+    if (result.kind == Intersection::Kind::Surface) result.si = makeInteraction(ray, rh);
+    return result;
+}
+
+bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats) const {
+    ++stats.rays;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    RTCRay r;
+    r.org_x = origin.x, r.org_y = origin.y, r.org_z = origin.z;
+    r.dir_x = dir.x, r.dir_y = dir.y, r.dir_z = dir.z;
+    r.tnear = 0;
+    r.tfar = std::isfinite(distance) ? distance : std::numeric_limits<float>::max();
+    r.time = 0;
+    r.mask = 0xffffffffu;
+    r.id = 0;
+    r.flags = 0;
+    rtcOccluded1(top_, &context, &r);
+    return r.tfar < 0;  // Embree sets tfar to -inf on a hit
+}
+
+bool Scene::visible(const SurfaceInteraction& si, const Vec3& wi, float distance, RayStats& stats) const {
+    Vec3 o = offsetRayOrigin(si.p, si.ng, wi);
+    float d = std::isfinite(distance) ? distance * (1 - 1e-4f) - length(o - si.p) : kInf;
+    if (std::isfinite(d) && d <= 0) return true;
+    return !occluded(o, wi, d, stats);
+}
+
+}  // namespace gi

@@ -1,0 +1,157 @@
+// The scene: triangle meshes, exact spheres and instances in Embree 3, UsdPreviewSurface
+// materials, UsdLux lights (intersected analytically, not in the BVH) and emissive triangles.
+// Built through add* calls, then committed once; after commit it is read-only and all
+// queries are thread-safe.
+#pragma once
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "camera.h"
+#include "light.h"
+#include "material.h"
+
+namespace gi {
+
+struct RayStats {
+    uint64_t rays = 0;
+};
+
+struct SurfaceInteraction {
+    Vec3 p;           // world position
+    Vec3 ng;          // geometric normal, unit, world space (as wound; not face-forwarded)
+    Vec3 ns;          // shading normal, unit, world space (same hemisphere as ng)
+    Vec2 uv;
+    float t = 0;
+    const Material* material = nullptr;
+    int emissiveLight = -1;  // index into lights() when the surface is an emissive triangle
+    uint32_t primId = 0, shapeId = 0, instanceId = 0xffffffffu;
+    bool doubleSided = true;
+};
+
+struct Intersection {
+    enum class Kind { None, Surface, Light } kind = Kind::None;
+    SurfaceInteraction si;
+    int light = -1;  // when kind == Light
+    float t = kInf;
+};
+
+class Scene {
+public:
+    Scene();
+    ~Scene();
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    // --- building (not thread-safe) ---
+    int addMaterial(const MaterialDesc& desc);
+    int addPrototype(const std::string& name);
+    // Returns the shape id, or -1 (with a warning) if nothing usable remained.
+    int addMesh(const std::string& name, std::vector<Vec3> positions, std::vector<uint32_t> indices,
+                std::vector<Vec3> normals, std::vector<Vec2> uvs, int material, const Mat4* transform,
+                bool doubleSided, int prototype);
+    int addSphere(const std::string& name, Vec3 center, float radius, int material, const Mat4* transform,
+                  int prototype);
+    int addInstance(int prototype, const Mat4& transform, const std::string& name);
+    int addLight(const LightDesc& desc);
+    void setCamera(const CameraDesc& desc) { cameraDesc_ = desc; hasCamera_ = true; }
+    void commit();
+    bool committed() const { return committed_; }
+
+    // --- queries (thread-safe after commit) ---
+    // cameraRay: skip lights that are invisible to the camera.
+    Intersection intersect(const Ray& ray, RayStats& stats, bool cameraRay = false) const;
+    bool occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats) const;
+    // Shadow test between a surface point and a light sample, offsetting the origin.
+    bool visible(const SurfaceInteraction& si, const Vec3& wi, float distance, RayStats& stats) const;
+
+    const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
+    const Distribution1D& lightDistribution() const { return lightDistribution_; }
+    float lightPmf(int light) const { return lightDistribution_.pmf(light); }
+    const std::vector<int>& infiniteLights() const { return infiniteLights_; }
+    const SceneBounds& bounds() const { return bounds_; }
+    const CameraDesc& cameraDesc() const { return cameraDesc_; }
+    bool hasCamera() const { return hasCamera_; }
+    const Material& material(int id) const { return *materials_[id]; }
+    int materialCount() const { return int(materials_.size()); }
+    bool hasSpecularSurfaces() const { return hasSpecular_; }
+    const std::string& shapeName(uint32_t shape) const { return shapes_[shape].name; }
+
+    void warn(const std::string& message) const;
+    std::vector<std::string> warnings() const;
+
+    struct Stats {
+        size_t triangles = 0, spheres = 0, instances = 0, prototypes = 0, lights = 0, emissiveTriangles = 0;
+        size_t textureBytes = 0, textures = 0;
+        double buildSeconds = 0;
+    };
+    const Stats& stats() const { return stats_; }
+    RTCScene embreeScene() const { return top_; }
+    RTCDevice embreeDevice() const { return device_; }
+
+private:
+    struct Shape {
+        std::string name;
+        bool isSphere = false;
+        std::vector<Vec3> positions, normals;
+        std::vector<Vec2> uvs;
+        std::vector<uint32_t> indices;
+        Vec3 center;
+        float radius = 0;
+        int material = 0;
+        bool doubleSided = true;
+        int prototype = -1;
+        int lightOffset = -1;  // first triangle light of this shape (top-level shapes)
+    };
+    struct Prototype {
+        std::string name;
+        std::vector<int> shapes;
+        RTCScene rtc = nullptr;
+        std::vector<int> geomToShape;
+        bool emissive = false;
+        std::map<int, int> relativeLightOffset;  // emissive shape -> its first light within an instance
+    };
+    struct Instance {
+        std::string name;
+        int prototype;
+        Mat4 toWorld;
+        int lightOffset = -1;  // first light of this instance's emissive triangles
+    };
+
+    void buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, int shapeId);
+    void buildLights();
+    void bindMaterials();
+    SurfaceInteraction makeInteraction(const Ray& ray, const RTCRayHit& hit) const;
+    Texture loadTexture(const TextureDesc& desc, const std::string& materialName, const std::string& input);
+    int defaultMaterial();
+
+    RTCDevice device_ = nullptr;
+    RTCScene top_ = nullptr;
+    std::vector<Shape> shapes_;
+    std::vector<Prototype> prototypes_;
+    std::vector<Instance> instances_;
+    std::vector<int> topGeomToShape_;  // geomID -> shape, or -(instance+1) for instances
+    std::vector<MaterialDesc> materialDescs_;
+    std::vector<std::unique_ptr<Material>> materials_;
+    std::map<std::string, std::shared_ptr<Image>> imageCache_;
+    std::vector<LightDesc> lightDescs_;
+    std::vector<std::unique_ptr<Light>> lights_;
+    std::vector<int> infiniteLights_;
+    Distribution1D lightDistribution_;
+    SceneBounds bounds_;
+    CameraDesc cameraDesc_;
+    bool hasCamera_ = false;
+    bool committed_ = false;
+    bool hasSpecular_ = false;
+    int defaultMaterial_ = -1;
+    Stats stats_;
+    mutable std::mutex warningsMutex_;
+    mutable std::vector<std::string> warnings_;
+};
+
+}  // namespace gi

@@ -1,0 +1,135 @@
+#include "texture.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+namespace gi {
+
+namespace {
+
+float srgbToLinear(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+int parseWrap(const std::string& s) {
+    if (s == "mirror") return kWrapMirror;
+    if (s == "clamp") return kWrapClamp;
+    if (s == "black") return kWrapBlack;
+    return kWrapRepeat;  // repeat and useMetadata (UsdUVTexture's fallback for metadata is repeat)
+}
+
+// Maps an integer texel coordinate into range; returns false for 'black' outside the image.
+bool wrapCoordinate(int& i, int n, int mode) {
+    if (i >= 0 && i < n) return true;
+    switch (mode) {
+        case kWrapClamp: i = std::clamp(i, 0, n - 1); return true;
+        case kWrapBlack: return false;
+        case kWrapMirror: {
+            int period = 2 * n;
+            int m = ((i % period) + period) % period;
+            i = m < n ? m : period - 1 - m;
+            return true;
+        }
+        default: i = ((i % n) + n) % n; return true;
+    }
+}
+
+}  // namespace
+
+std::shared_ptr<Image> Image::load(const std::string& path, const std::string& colorSpace, std::string& error) {
+    OIIO::ImageBuf buf(path);
+    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
+        error = buf.geterror();
+        if (error.empty()) error = "cannot read image";
+        return nullptr;
+    }
+    const OIIO::ImageSpec& spec = buf.spec();
+    int w = spec.width, h = spec.height, nc = spec.nchannels;
+    std::vector<float> src(size_t(w) * h * nc);
+    buf.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, nc), OIIO::TypeDesc::FLOAT, src.data());
+    // 'auto' treats 8-bit images as sRGB-encoded and float images as linear (UsdUVTexture's rule).
+    bool isFloat = spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF;
+    bool decodeSrgb = colorSpace == "sRGB" || (colorSpace != "raw" && !isFloat);
+    std::vector<float> rgba(size_t(w) * h * 4);
+    for (size_t p = 0; p < size_t(w) * h; ++p) {
+        const float* s = &src[p * nc];
+        float r = s[0], g = nc >= 3 ? s[1] : s[0], b = nc >= 3 ? s[2] : s[0];
+        float a = nc == 2 ? s[1] : (nc >= 4 ? s[3] : 1.0f);
+        if (decodeSrgb) {
+            r = srgbToLinear(r);
+            g = srgbToLinear(g);
+            b = srgbToLinear(b);
+        }
+        float* d = &rgba[p * 4];
+        d[0] = std::isfinite(r) ? r : 0;
+        d[1] = std::isfinite(g) ? g : 0;
+        d[2] = std::isfinite(b) ? b : 0;
+        d[3] = std::isfinite(a) ? a : 1;
+    }
+    return fromPixels(w, h, std::move(rgba));
+}
+
+std::shared_ptr<Image> Image::fromPixels(int width, int height, std::vector<float> rgba) {
+    auto image = std::make_shared<Image>();
+    image->width_ = width;
+    image->height_ = height;
+    image->pixels_ = std::move(rgba);
+    return image;
+}
+
+void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4]) const {
+    // Texel centres at half-integers; v flipped because row 0 is the top of the file.
+    float x = u * width_ - 0.5f, y = (1 - v) * height_ - 0.5f;
+    if (!std::isfinite(x) || !std::isfinite(y)) x = y = 0;
+    x = std::clamp(x, -1e7f, 1e7f);
+    y = std::clamp(y, -1e7f, 1e7f);
+    int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+    float fx = x - x0, fy = y - y0;
+    for (int c = 0; c < 4; ++c) out[c] = 0;
+    for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+            int xi = x0 + dx, yi = y0 + dy;
+            float w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
+            if (!wrapCoordinate(xi, width_, wrapS) || !wrapCoordinate(yi, height_, wrapT)) continue;
+            const float* t = texel(xi, yi);
+            for (int c = 0; c < 4; ++c) out[c] += w * t[c];
+        }
+}
+
+void Texture::prepare() {
+    wrapS = parseWrap(desc.wrapS);
+    wrapT = parseWrap(desc.wrapT);
+    const std::string& c = desc.channel;
+    channelIndex = c == "r" ? 0 : c == "g" ? 1 : c == "b" ? 2 : c == "a" ? 3 : -1;
+    // UsdTransform2d: st' = R(rotation) * (st * scale) + translation.
+    float rad = desc.stRotation * kPi / 180.0f;
+    float cs = std::cos(rad), sn = std::sin(rad);
+    st[0][0] = cs * desc.stScale.x;
+    st[0][1] = -sn * desc.stScale.y;
+    st[0][2] = desc.stTranslation.x;
+    st[1][0] = sn * desc.stScale.x;
+    st[1][1] = cs * desc.stScale.y;
+    st[1][2] = desc.stTranslation.y;
+}
+
+void Texture::evalRaw(Vec2 uv, float out[4]) const {
+    float u = st[0][0] * uv.x + st[0][1] * uv.y + st[0][2];
+    float v = st[1][0] * uv.x + st[1][1] * uv.y + st[1][2];
+    image->lookup(u, v, wrapS, wrapT, out);
+    for (int c = 0; c < 4; ++c) out[c] = out[c] * desc.scale[c] + desc.bias[c];
+}
+
+Color Texture::evalColor(Vec2 uv) const {
+    float t[4];
+    evalRaw(uv, t);
+    if (channelIndex >= 0) return Color(t[channelIndex]);
+    return {t[0], t[1], t[2]};
+}
+
+float Texture::evalFloat(Vec2 uv) const {
+    float t[4];
+    evalRaw(uv, t);
+    return t[channelIndex >= 0 ? channelIndex : 0];
+}
+
+}  // namespace gi

@@ -1,0 +1,84 @@
+// Small analytic scenes built in code for the C++ tests.
+#pragma once
+#include <vector>
+
+#include "renderer/render.h"
+#include "renderer/scene.h"
+
+namespace gi::test {
+
+inline MaterialDesc lambert(Color albedo, Color emission = Color(0.0f)) {
+    MaterialDesc m;
+    m.name = "lambert";
+    m.useSpecularWorkflow = true;
+    m.specularColor = Color(0.0f);
+    m.roughness = 1;
+    m.diffuseColor = albedo;
+    m.emissiveColor = emission;
+    return m;
+}
+
+// A quad p0..p3 (counter-clockwise seen from the side its normal points to).
+inline int addQuad(Scene& s, const char* name, Vec3 p0, Vec3 p1, Vec3 p2, Vec3 p3, int material) {
+    return s.addMesh(name, {p0, p1, p2, p3}, {0, 1, 2, 0, 2, 3}, {}, {}, material, nullptr, true, -1);
+}
+
+// A closed, subdivided icosahedron of the given radius around the origin.
+inline void addIcosphere(Scene& s, float radius, int subdivisions, int material) {
+    const float t = (1.0f + std::sqrt(5.0f)) / 2;
+    std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<uint32_t> f = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6,
+                               7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10,
+                               8, 6, 7, 9, 8, 1};
+    for (int level = 0; level < subdivisions; ++level) {
+        std::vector<uint32_t> next;
+        auto midpoint = [&](uint32_t a, uint32_t b) {
+            v.push_back((v[a] + v[b]) * 0.5f);
+            return uint32_t(v.size() - 1);
+        };
+        for (size_t i = 0; i < f.size(); i += 3) {
+            uint32_t a = f[i], b = f[i + 1], c = f[i + 2];
+            uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+            next.insert(next.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
+        }
+        f = std::move(next);
+    }
+    for (Vec3& p : v) p = normalize(p) * radius;
+    s.addMesh("/Furnace", std::move(v), std::move(f), {}, {}, material, nullptr, true, -1);
+}
+
+inline CameraDesc lookingDown(Vec3 position, bool orthographic, float apertureTenths) {
+    CameraDesc c;
+    c.name = "/Camera";
+    c.projection = orthographic ? "orthographic" : "perspective";
+    c.horizontalAperture = c.verticalAperture = apertureTenths;
+    c.clipNear = 1e-4f;
+    // Rotate -90 degrees about X: the camera's -Z looks down -Y.
+    c.transform.m[1][1] = 0, c.transform.m[1][2] = -1;
+    c.transform.m[2][1] = 1, c.transform.m[2][2] = 0;
+    c.transform.m[3][0] = position.x, c.transform.m[3][1] = position.y, c.transform.m[3][2] = position.z;
+    return c;
+}
+
+inline std::vector<float> renderImage(Scene& scene, const std::string& integrator, int size, int spp,
+                                      const std::map<std::string, double>& params = {}, uint32_t seed = 1) {
+    scene.commit();
+    RenderSettings settings;
+    settings.width = settings.height = size;
+    settings.spp = spp;
+    settings.integrator = integrator;
+    settings.seed = seed;
+    for (auto& [k, v] : params) settings.params.set(k, v);
+    Renderer renderer(scene, settings);
+    renderer.render();
+    return renderer.film().color();
+}
+
+inline double channelMean(const std::vector<float>& rgb, int channel) {
+    double sum = 0;
+    for (size_t i = channel; i < rgb.size(); i += 3) sum += rgb[i];
+    return sum / (rgb.size() / 3);
+}
+
+}  // namespace gi::test

@@ -1,0 +1,121 @@
+// Integrators against analytic answers: the white furnace, a diffuse plane under a distant
+// light, and the irradiance of a rectangular light (Lambert's polygon formula).
+#include <gtest/gtest.h>
+
+#include "scenes.h"
+
+using namespace gi;
+using namespace gi::test;
+
+namespace {
+
+struct FurnaceCase {
+    const char* integrator;
+    float albedo;
+};
+
+class WhiteFurnace : public ::testing::TestWithParam<FurnaceCase> {};
+
+// Inside a closed surface of uniform albedo a and emission Le, radiance is Le / (1 - a) everywhere.
+TEST_P(WhiteFurnace, ReturnsLeOverOneMinusAlbedo) {
+    const FurnaceCase& c = GetParam();
+    Scene scene;
+    const Color Le(0.5f);
+    int m = scene.addMaterial(lambert(Color(c.albedo), Le));
+    addIcosphere(scene, 1.0f, 3, m);
+    CameraDesc cam;
+    cam.clipNear = 1e-3f;
+    scene.setCamera(cam);
+    auto image = renderImage(scene, c.integrator, 16, 128, {{"pathDepth", 1000}, {"rayDepth", 1000}});
+    double expected = Le.x / (1 - c.albedo);
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(channelMean(image, ch), expected, 0.01 * expected) << "channel " << ch;
+}
+
+INSTANTIATE_TEST_SUITE_P(Path, WhiteFurnace, ::testing::Values(FurnaceCase{"path", 0.5f}, FurnaceCase{"path", 0.9f}),
+                         [](const auto& info) { return std::string(info.param.integrator) + "_albedo" +
+                                                       std::to_string(int(info.param.albedo * 10)); });
+
+// A delta distant light of irradiance E on a Lambertian plane: L = albedo * E / pi, exactly.
+TEST(DirectLighting, PlaneUnderDistantLight) {
+    for (const char* integrator : {"direct", "path"}) {
+        Scene scene;
+        int m = scene.addMaterial(lambert(Color(0.5f, 0.25f, 0.75f)));
+        addQuad(scene, "/Plane", {-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, m);
+        LightDesc sun;
+        sun.name = "/Sun";
+        sun.kind = "distant";
+        sun.angle = 0;
+        sun.intensity = 3;
+        sun.transform.m[1][1] = 0, sun.transform.m[1][2] = -1;  // rotate -90 about X: shines along -Y
+        sun.transform.m[2][1] = 1, sun.transform.m[2][2] = 0;
+        scene.addLight(sun);
+        scene.setCamera(lookingDown({0, 5, 0}, true, 10));
+        auto image = renderImage(scene, integrator, 8, 4, {{"pathDepth", 1}});
+        EXPECT_NEAR(channelMean(image, 0), 0.5 * 3 / kPi, 1e-4) << integrator;
+        EXPECT_NEAR(channelMean(image, 1), 0.25 * 3 / kPi, 1e-4) << integrator;
+        EXPECT_NEAR(channelMean(image, 2), 0.75 * 3 / kPi, 1e-4) << integrator;
+    }
+}
+
+// Irradiance at the origin (normal +y) from a one-sided polygon of radiance L: Lambert's formula
+// E = L/2 * sum_i angle(r_i, r_i+1) * dot(n, normalize(r_i x r_i+1)).
+double polygonIrradiance(const std::vector<Vec3>& corners, Vec3 n, double L) {
+    double sum = 0;
+    for (size_t i = 0; i < corners.size(); ++i) {
+        Vec3 a = normalize(corners[i]), b = normalize(corners[(i + 1) % corners.size()]);
+        double angle = std::acos(std::clamp(double(dot(a, b)), -1.0, 1.0));
+        sum += angle * dot(n, normalize(cross(a, b)));
+    }
+    return L / 2 * std::fabs(sum);
+}
+
+TEST(DirectLighting, RectLightMatchesPolygonFormFactor) {
+    Scene scene;
+    const float albedo = 0.8f, L = 5;
+    int m = scene.addMaterial(lambert(Color(albedo)));
+    addQuad(scene, "/Floor", {-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, m);
+    LightDesc rect;
+    rect.name = "/Rect";
+    rect.kind = "rect";
+    rect.width = 1.0f;
+    rect.height = 0.6f;
+    rect.intensity = L;
+    // Emitting downwards from (0.3, 1, 0.2): rotate -90 degrees about X so local -Z -> world -Y.
+    rect.transform.m[1][1] = 0, rect.transform.m[1][2] = -1;
+    rect.transform.m[2][1] = 1, rect.transform.m[2][2] = 0;
+    rect.transform.m[3][0] = 0.3f, rect.transform.m[3][1] = 1, rect.transform.m[3][2] = 0.2f;
+    scene.addLight(rect);
+    scene.setCamera(lookingDown({0, 0.5f, 0}, true, 0.01f));  // a 1 mm window around the origin
+    auto image = renderImage(scene, "direct", 4, 1024, {{"lightSamples", 16}});
+    // Corners in world space: x in 0.3 +- 0.5, z in 0.2 +- 0.3, y = 1.
+    std::vector<Vec3> corners = {{-0.2f, 1, -0.1f}, {0.8f, 1, -0.1f}, {0.8f, 1, 0.5f}, {-0.2f, 1, 0.5f}};
+    double E = polygonIrradiance(corners, Vec3(0, 1, 0), L);
+    double expected = albedo / kPi * E;
+    EXPECT_NEAR(channelMean(image, 1), expected, 0.005 * expected);
+}
+
+TEST(Integrators, RegistryReflectsParameters) {
+    const IntegratorInfo* path = findIntegrator("path");
+    ASSERT_NE(path, nullptr);
+    std::vector<std::string> names;
+    for (const ParamInfo& p : path->params) names.push_back(p.name);
+    EXPECT_NE(std::find(names.begin(), names.end(), "pathDepth"), names.end());
+    EXPECT_NE(std::find(names.begin(), names.end(), "rayDepth"), names.end());
+    EXPECT_NE(std::find(names.begin(), names.end(), "paths"), names.end());
+    ParamSet p;
+    p.set("pathDepth", 1e9);  // out of range: clamped, not trusted
+    EXPECT_EQ(paramValue(*path, p, "pathDepth"), 1024);
+}
+
+TEST(Renderer, DeterministicGivenSeed) {
+    auto once = [](uint32_t seed) {
+        Scene scene;
+        int m = scene.addMaterial(lambert(Color(0.7f), Color(0.2f)));
+        addIcosphere(scene, 1.0f, 2, m);
+        return renderImage(scene, "path", 16, 8, {}, seed);
+    };
+    EXPECT_EQ(once(7), once(7));
+    EXPECT_NE(once(7), once(8));
+}
+
+}  // namespace

@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "renderer/sampler.h"
+#include "renderer/sampling.h"
+
+using namespace gi;
+
+// Each 2D dimension pair is a (0,2)-sequence: the first 2^k points of a pixel put exactly one
+// point in every elementary interval of area 2^-k (checked here for the 4x4 strata of 16 points).
+TEST(Sampler, FirstSixteenSamplesStratifyEveryDimensionPair) {
+    Sampler sampler(42);
+    for (int dimensionPair = 0; dimensionPair < 6; ++dimensionPair) {
+        std::set<int> cells;
+        for (uint32_t i = 0; i < 16; ++i) {
+            sampler.start(3, 5, i);
+            Vec2 u;
+            for (int d = 0; d <= dimensionPair; ++d) u = sampler.get2D();
+            ASSERT_GE(u.x, 0);
+            ASSERT_LT(u.x, 1);
+            cells.insert(int(u.x * 4) * 4 + int(u.y * 4));
+        }
+        EXPECT_EQ(cells.size(), 16u) << "dimension pair " << dimensionPair;
+    }
+}
+
+TEST(Sampler, PixelsAndSeedsDecorrelate) {
+    Sampler a(1), b(1), c(2);
+    a.start(0, 0, 0);
+    b.start(1, 0, 0);
+    c.start(0, 0, 0);
+    Vec2 ua = a.get2D(), ub = b.get2D(), uc = c.get2D();
+    EXPECT_NE(ua.x, ub.x);
+    EXPECT_NE(ua.x, uc.x);
+}
+
+TEST(Sampler, MeanOfManySamplesIsOneHalf) {
+    Sampler s(3);
+    double sum = 0;
+    const int n = 4096;
+    for (int i = 0; i < n; ++i) {
+        s.start(7, 9, uint32_t(i));
+        s.get2D();
+        sum += s.get2D().y;
+    }
+    EXPECT_NEAR(sum / n, 0.5, 1e-3);
+}
+
+TEST(Distribution1D, SamplesInProportionAndIgnoresBadWeights) {
+    float w[] = {1, 0, 3, std::nanf(""), -2};
+    Distribution1D d(w, 5);
+    EXPECT_FLOAT_EQ(d.pmf(0), 0.25f);
+    EXPECT_FLOAT_EQ(d.pmf(2), 0.75f);
+    EXPECT_FLOAT_EQ(d.pmf(3), 0.0f);
+    float pmf;
+    EXPECT_EQ(d.sample(0.1f, &pmf), 0);
+    EXPECT_EQ(d.sample(0.5f, &pmf), 2);
+    EXPECT_FLOAT_EQ(pmf, 0.75f);
+    float zeros[] = {0, 0};
+    Distribution1D uniform(zeros, 2);
+    EXPECT_FLOAT_EQ(uniform.pmf(1), 0.5f);
+}
+
+TEST(Warps, CosineHemisphereIsNormalisedAndUpward) {
+    Sampler s(5);
+    for (uint32_t i = 0; i < 256; ++i) {
+        s.start(0, 0, i);
+        Vec3 d = sampleCosineHemisphere(s.get2D());
+        EXPECT_NEAR(length(d), 1.0f, 1e-5f);
+        EXPECT_GE(d.z, 0.0f);
+    }
+}

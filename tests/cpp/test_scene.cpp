@@ -1,0 +1,135 @@
+// Scene building: bad input is repaired or dropped with a warning naming the prim; exact
+// spheres and instances intersect where they should.
+#include <gtest/gtest.h>
+
+#include "scenes.h"
+
+using namespace gi;
+using namespace gi::test;
+
+namespace {
+
+bool anyWarningContains(const Scene& s, const std::string& a, const std::string& b) {
+    for (const std::string& w : s.warnings())
+        if (w.find(a) != std::string::npos && w.find(b) != std::string::npos) return true;
+    return false;
+}
+
+Ray rayDown(Vec3 from) { return Ray{from, Vec3(0, -1, 0), 0, kInf}; }
+
+}  // namespace
+
+TEST(Scene, DropsBadTrianglesWithWarningsNamingThePrim) {
+    Scene s;
+    float nan = std::nanf("");
+    int id = s.addMesh("/World/Broken", {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, {nan, 0, 0}, {2, 0, 0}},
+                       {0, 1, 2, 0, 1, 9, 0, 3, 1, 0, 1, 4}, {}, {}, -1, nullptr, true, -1);
+    EXPECT_GE(id, 0);
+    EXPECT_TRUE(anyWarningContains(s, "/World/Broken", "out-of-range"));
+    EXPECT_TRUE(anyWarningContains(s, "/World/Broken", "NaN"));
+    EXPECT_TRUE(anyWarningContains(s, "/World/Broken", "degenerate"));
+    s.commit();
+    EXPECT_EQ(s.stats().triangles, 1u);
+}
+
+TEST(Scene, MeshWithNothingUsableIsIgnored) {
+    Scene s;
+    EXPECT_EQ(s.addMesh("/Empty", {}, {}, {}, {}, -1, nullptr, true, -1), -1);
+    EXPECT_TRUE(anyWarningContains(s, "/Empty", "no valid triangles"));
+    s.commit();  // an empty scene still commits and renders black
+    RayStats st;
+    EXPECT_EQ(s.intersect(rayDown({0, 1, 0}), st).kind, Intersection::Kind::None);
+}
+
+TEST(Scene, ExactSphereHitAndNormal) {
+    Scene s;
+    s.addSphere("/Sphere", {0, -0.6f, 0}, 0.4f, -1, nullptr, -1);
+    s.commit();
+    RayStats st;
+    Intersection hit = s.intersect(rayDown({0.1f, 5, 0}), st);
+    ASSERT_EQ(hit.kind, Intersection::Kind::Surface);
+    float expectedY = -0.6f + std::sqrt(0.16f - 0.01f);
+    EXPECT_NEAR(hit.si.p.y, expectedY, 1e-5f);
+    EXPECT_NEAR(length(hit.si.ng), 1.0f, 1e-5f);
+    EXPECT_NEAR(hit.si.ng.x, 0.1f / 0.4f, 1e-4f);
+}
+
+TEST(Scene, InstancesShareOnePrototype) {
+    Scene s;
+    int proto = s.addPrototype("/Proto");
+    s.addMesh("/Proto/Quad", {{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}}, {0, 1, 2, 0, 2, 3}, {}, {}, -1,
+              nullptr, true, proto);
+    for (int i = 0; i < 3; ++i) {
+        Mat4 m;
+        m.m[3][0] = 10.0 * i;
+        m.m[0][0] = m.m[2][2] = 0.5;  // scaled: the hit normal must stay unit length
+        s.addInstance(proto, m, "/Instance" + std::to_string(i));
+    }
+    s.commit();
+    EXPECT_EQ(s.stats().triangles, 2u);  // geometry stored once
+    EXPECT_EQ(s.stats().instances, 3u);
+    RayStats st;
+    Intersection hit = s.intersect(rayDown({20.2f, 1, 0.2f}), st);
+    ASSERT_EQ(hit.kind, Intersection::Kind::Surface);
+    EXPECT_EQ(hit.si.instanceId, 2u);
+    EXPECT_NEAR(hit.si.p.y, 0.0f, 1e-5f);
+    EXPECT_NEAR(std::fabs(hit.si.ng.y), 1.0f, 1e-5f);
+    EXPECT_EQ(s.intersect(rayDown({20.8f, 1, 0}), st).kind, Intersection::Kind::None);  // outside the scaled quad
+}
+
+TEST(Scene, BadLightsAreIgnoredWithWarnings) {
+    Scene s;
+    LightDesc zero;
+    zero.name = "/Lights/Zero";
+    zero.intensity = 0;
+    s.addLight(zero);
+    LightDesc nanLight;
+    nanLight.name = "/Lights/NaN";
+    nanLight.width = std::nanf("");
+    s.addLight(nanLight);
+    LightDesc flat;
+    flat.name = "/Lights/Flat";
+    flat.width = 0;
+    s.addLight(flat);
+    s.commit();
+    EXPECT_TRUE(s.lights().empty());
+    EXPECT_TRUE(anyWarningContains(s, "/Lights/Zero", "intensity"));
+    EXPECT_TRUE(anyWarningContains(s, "/Lights/NaN", "NaN"));
+    EXPECT_TRUE(anyWarningContains(s, "/Lights/Flat", "zero area"));
+}
+
+TEST(Scene, MissingTextureWarnsNamingMaterialAndFile) {
+    Scene s;
+    MaterialDesc m = lambert(Color(0.5f));
+    m.name = "/Looks/Brick";
+    m.diffuseColorTexture.file = "/nonexistent/brick.png";
+    int id = s.addMaterial(m);
+    addQuad(s, "/Wall", {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, id);
+    s.commit();
+    EXPECT_TRUE(anyWarningContains(s, "/Looks/Brick", "/nonexistent/brick.png"));
+}
+
+TEST(Scene, UnusedMaterialsReadNoTextures) {
+    Scene s;
+    MaterialDesc m = lambert(Color(0.5f));
+    m.name = "/Looks/Unused";
+    m.diffuseColorTexture.file = "/nonexistent/unused.png";
+    s.addMaterial(m);
+    s.commit();
+    EXPECT_FALSE(anyWarningContains(s, "/Looks/Unused", "unused.png"));
+    EXPECT_EQ(s.stats().textures, 0u);
+}
+
+TEST(Scene, FarFromOriginDoesNotSelfIntersect) {
+    Scene s;
+    const float far = 1e5f;
+    int m = s.addMaterial(lambert(Color(0.5f)));
+    addQuad(s, "/Far", {far - 1, 0, -1}, {far - 1, 0, 1}, {far + 1, 0, 1}, {far + 1, 0, -1}, m);
+    s.commit();
+    RayStats st;
+    Intersection hit = s.intersect(rayDown({far + 0.3f, 1, 0.1f}), st);
+    ASSERT_EQ(hit.kind, Intersection::Kind::Surface);
+    // A ray leaving the surface upwards must not hit the surface it starts on.
+    Vec3 o = offsetRayOrigin(hit.si.p, hit.si.ng, Vec3(0, 1, 0));
+    EXPECT_EQ(s.intersect(Ray{o, Vec3(0, 1, 0), 0, kInf}, st).kind, Intersection::Kind::None);
+}
