@@ -13,6 +13,7 @@
 
 #include "renderer/color.h"
 #include "renderer/image_io.h"
+#include "renderer/ray_benchmark.h"
 #include "renderer/render.h"
 #include "renderer/scene.h"
 
@@ -415,6 +416,19 @@ void bindRendering(nb::module_& m) {
     });
 
     m.def("peak_memory_bytes", &peakResidentMemoryBytes);
+
+    m.def(
+        "embree_ray_benchmark",
+        [](Scene& scene, uint64_t rays, uint32_t seed, int threads) {
+            nb::gil_scoped_release release;
+            scene.commit();
+            RayBenchmarkResult r = castIncoherentRays(scene, rays, seed, threads);
+            return std::map<std::string, double>{{"rays", double(r.rays)},
+                                                 {"hits", double(r.hits)},
+                                                 {"seconds", r.seconds},
+                                                 {"rays_per_second", r.raysPerSecond()}};
+        },
+        "scene"_a, "rays"_a, "seed"_a = 0, "threads"_a = 0);
 }
 
 }  // namespace

@@ -1,0 +1,19 @@
+// Embree on its own: casts incoherent closest-hit rays (uniform origins in the scene's bounding
+// sphere, uniform directions) on all threads, as the baseline for the renderer's rays/s.
+#pragma once
+#include <cstdint>
+
+#include "scene.h"
+
+namespace gi {
+
+struct RayBenchmarkResult {
+    uint64_t rays = 0;
+    uint64_t hits = 0;
+    double seconds = 0;
+    double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
+};
+
+RayBenchmarkResult castIncoherentRays(const Scene& scene, uint64_t rays, uint32_t seed, int threads);
+
+}  // namespace gi

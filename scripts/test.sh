@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# README's second command: sets up what is missing, builds, and runs every test: the C++ tests
+# (ctest), the Python tests (pytest) and, when an OpenUSD build with imaging is found at
+# $GI_OPENUSD_ROOT (default /opt/openusd), the Hydra plugin's tests.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+bash scripts/build.sh
+
+status=0
+build_dir=$(ls -d build/cp3*/ 2>/dev/null | head -n 1)
+echo "== C++ tests (ctest in $build_dir)"
+ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" || status=1
+
+echo "== Python tests (pytest)"
+.venv/bin/python -m pytest -q tests/python || status=1
+
+openusd=${GI_OPENUSD_ROOT:-/opt/openusd}
+if [ -f "$openusd/pxrConfig.cmake" ]; then
+  echo "== Hydra plugin tests against $openusd"
+  bash scripts/test-hydra.sh "$openusd" || status=1
+else
+  echo "== Hydra plugin tests skipped: no OpenUSD build with imaging at $openusd (set GI_OPENUSD_ROOT)"
+fi
+exit $status
