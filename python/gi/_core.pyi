@@ -100,13 +100,15 @@ class Scene:
                  prototype: int = -1) -> int:
         """Adds a triangle mesh (in `prototype` if >= 0). Face-varying data must be de-indexed by the
         caller. Bad data (NaN points, out-of-range indices, degenerate triangles) is repaired or
-        dropped with a warning naming `name`; raises ValueError only if nothing usable remains."""
+        dropped with a warning naming `name`; returns -1 (with a warning) if nothing usable remains."""
     def add_sphere(self, name: str, center: Sequence[float], radius: float, material: int = -1,
                    transform: Optional[npt.NDArray[np.float64]] = None, prototype: int = -1) -> int:
         """An exact sphere (Embree sphere geometry). Non-uniform transforms are handled by instancing."""
     def add_instance(self, prototype: int, transform: npt.NDArray[np.float64], name: str = "") -> int: ...
     def add_light(self, light: LightDesc) -> int: ...
     def set_camera(self, camera: CameraDesc) -> None: ...
+    def commit(self) -> None:
+        """Builds the BVH and lights (render() does it if needed). The scene is read-only afterwards."""
     def warnings(self) -> list[str]:
         """Every warning issued while building and committing, each naming its prim."""
     def stats(self) -> dict: ...   # triangles, spheres, instances, lights, build_seconds, ...
@@ -134,20 +136,30 @@ def integrators() -> list[dict]:
     """[{'name', 'description', 'params': [{'name', 'type' ('int'|'float'|'bool'), 'default', 'min', 'max', 'description'}]}]"""
 
 def render(scene: Scene, settings: RenderSettings,
-           progress: Optional[Callable[[int, int], None]] = None) -> RenderResult:
-    """Renders with all threads; progress(done_tiles, total_tiles) is called from the calling thread.
-    Releases the GIL while rendering. KeyboardInterrupt cancels."""
+           progress: Optional[Callable[[float], None]] = None) -> RenderResult:
+    """Renders with all threads; progress(fraction_done) is called from the calling thread every
+    50 ms and once with 1.0 at the end. Releases the GIL while rendering. KeyboardInterrupt cancels.
+    Raises ValueError for an unknown integrator or resolution."""
 
 def write_exr(path: str, result: RenderResult, metadata: dict = {}) -> None:
     """Linear half/float EXR with R,G,B plus depth (Z), normal (N.x..), albedo (albedo.r..) layers; metadata as string attributes."""
 
+def write_rgb_exr(path: str, color: npt.NDArray[np.float32], metadata: dict = {}) -> None:
+    """A plain linear R,G,B EXR from an (H, W, 3) array."""
+
 def write_png(path: str, color: npt.NDArray[np.float32], display: str = "", view: str = "",
-              exposure: float = 0.0) -> None:
-    """Display-referred 8-bit PNG through the OpenColorIO display/view transform ($OCIO or the shipped config)."""
+              exposure: float = 0.0, config: str = "") -> None:
+    """Display-referred 8-bit PNG through an OpenColorIO display/view (config: explicit, else
+    $OCIO, else the config shipped in gi/ocio/). Empty display/view = the config's defaults."""
 
 def read_image(path: str) -> tuple[npt.NDArray[np.float32], dict]:
     """(H, W, C) float pixels and the file's metadata, through OpenImageIO."""
 
 def display_transform(color: npt.NDArray[np.float32], display: str = "", view: str = "",
-                      exposure: float = 0.0) -> npt.NDArray[np.float32]:
+                      exposure: float = 0.0, config: str = "") -> npt.NDArray[np.float32]:
     """The OCIO display transform as float (H, W, 3) in [0, 1]."""
+
+def embree_ray_benchmark(scene: Scene, rays: int, seed: int = 0, threads: int = 0) -> dict:
+    """Embree alone: `rays` incoherent closest-hit rays in the committed scene -> {rays, hits, seconds, rays_per_second}."""
+
+def peak_memory_bytes() -> int: ...

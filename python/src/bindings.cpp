@@ -306,6 +306,14 @@ std::vector<float> toVector(const nb::ndarray<const float, nb::c_contig, nb::dev
 
 using ImageArray = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
 
+// The OCIO config: the explicit one, else $OCIO, else the one installed beside this module.
+std::string ocioConfig(const std::string& explicitPath) {
+    if (!explicitPath.empty()) return explicitPath;
+    std::string moduleFile = nb::cast<std::string>(nb::module_::import_("gi._core").attr("__file__"));
+    std::string shipped = moduleFile.substr(0, moduleFile.find_last_of('/')) + "/ocio/config.ocio";
+    return resolveOcioConfig(shipped);
+}
+
 void bindRendering(nb::module_& m) {
     nb::class_<PyRenderSettings>(m, "RenderSettings")
         .def(nb::init<>())
@@ -384,23 +392,25 @@ void bindRendering(nb::module_& m) {
 
     m.def(
         "display_transform",
-        [](ImageArray color, const std::string& config, const std::string& display, const std::string& view,
-           float exposure) {
+        [](ImageArray color, const std::string& display, const std::string& view, float exposure,
+           const std::string& config) {
             size_t w, h;
             std::vector<float> rgb = toVector<float>(color, w, h);
-            return toNumpy<3>(applyDisplayTransform(rgb, int(w), int(h), config, display, view, exposure), {h, w, 3});
+            std::string path = ocioConfig(config);
+            return toNumpy<3>(applyDisplayTransform(rgb, int(w), int(h), path, display, view, exposure), {h, w, 3});
         },
-        "color"_a, "config"_a, "display"_a = "", "view"_a = "", "exposure"_a = 0.0f);
+        "color"_a, "display"_a = "", "view"_a = "", "exposure"_a = 0.0f, "config"_a = "");
 
     m.def(
         "write_png",
-        [](const std::string& path, ImageArray color, const std::string& config, const std::string& display,
-           const std::string& view, float exposure) {
+        [](const std::string& path, ImageArray color, const std::string& display, const std::string& view,
+           float exposure, const std::string& config) {
             size_t w, h;
             std::vector<float> rgb = toVector<float>(color, w, h);
-            writePng8(path, int(w), int(h), applyDisplayTransform(rgb, int(w), int(h), config, display, view, exposure));
+            std::string cfg = ocioConfig(config);
+            writePng8(path, int(w), int(h), applyDisplayTransform(rgb, int(w), int(h), cfg, display, view, exposure));
         },
-        "path"_a, "color"_a, "config"_a, "display"_a = "", "view"_a = "", "exposure"_a = 0.0f);
+        "path"_a, "color"_a, "display"_a = "", "view"_a = "", "exposure"_a = 0.0f, "config"_a = "");
 
     m.def("read_image", [](const std::string& path) {
         LoadedImage img = readImage(path);
