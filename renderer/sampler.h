@@ -11,11 +11,10 @@
 namespace gi {
 
 inline uint32_t reverseBits(uint32_t x) {
+    x = __builtin_bswap32(x);  // reverses the bytes; then the bits within each byte
     x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
     x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-    x = ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
-    x = ((x >> 8) & 0x00FF00FFu) | ((x & 0x00FF00FFu) << 8);
-    return (x >> 16) | (x << 16);
+    return ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
 }
 
 inline uint32_t hashCombine(uint32_t seed, uint32_t v) {
@@ -42,11 +41,28 @@ inline uint32_t nestedUniformScramble(uint32_t x, uint32_t seed) {
     return reverseBits(laineKarrasPermutation(reverseBits(x), seed));
 }
 
+// Sobol's second dimension is linear over GF(2) in the index bits, so it is evaluated a byte
+// at a time from four 256-entry tables instead of a loop over all 32 bits.
+struct SobolDimension1Tables {
+    uint32_t table[4][256];
+    constexpr SobolDimension1Tables() : table() {
+        uint32_t direction[32] = {};
+        uint32_t v = 1u << 31;
+        for (int bit = 0; bit < 32; ++bit, v ^= v >> 1) direction[bit] = v;
+        for (int byte = 0; byte < 4; ++byte)
+            for (uint32_t value = 0; value < 256; ++value) {
+                uint32_t r = 0;
+                for (int bit = 0; bit < 8; ++bit)
+                    if (value & (1u << bit)) r ^= direction[byte * 8 + bit];
+                table[byte][value] = r;
+            }
+    }
+};
+inline constexpr SobolDimension1Tables kSobolDimension1{};
+
 inline uint32_t sobolDimension1(uint32_t index) {
-    uint32_t v = 1u << 31, r = 0;
-    for (; index; index >>= 1, v ^= v >> 1)
-        if (index & 1) r ^= v;
-    return r;
+    return kSobolDimension1.table[0][index & 0xff] ^ kSobolDimension1.table[1][(index >> 8) & 0xff] ^
+           kSobolDimension1.table[2][(index >> 16) & 0xff] ^ kSobolDimension1.table[3][index >> 24];
 }
 
 inline float uintToUnitFloat(uint32_t x) { return std::min(float(x >> 8) * 0x1p-24f, 0.99999994f); }
@@ -65,8 +81,10 @@ public:
     Vec2 get2D() {
         uint32_t pairSeed = hashCombine(pixelHash_, dimension_++);
         uint32_t index = nestedUniformScramble(sampleIndex_, pairSeed);
-        uint32_t x = nestedUniformScramble(reverseBits(index), hashCombine(pairSeed, 0x68bc21ebu));
-        uint32_t y = nestedUniformScramble(sobolDimension1(index), hashCombine(pairSeed, 0x02e5be93u));
+        // nestedUniformScramble(reverseBits(index)) simplified: the two bit reversals cancel.
+        // Per-coordinate seeds from the pair's hash by odd multipliers: distinct, and cheaper than rehashing.
+        uint32_t x = reverseBits(laineKarrasPermutation(index, pairSeed * 0x68bc21ebu));
+        uint32_t y = nestedUniformScramble(sobolDimension1(index), pairSeed * 0x02e5be93u);
         return {uintToUnitFloat(x), uintToUnitFloat(y)};
     }
     float get1D() { return get2D().x; }
