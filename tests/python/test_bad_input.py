@@ -1,0 +1,71 @@
+"""Bad input gets a clear message naming the file and prim; nothing crashes."""
+import math
+
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdShade
+
+from conftest import run_gi
+
+
+def _stage(tmp_path, name="scene.usda"):
+    path = tmp_path / name
+    stage = Usd.Stage.CreateNew(str(path))
+    UsdGeom.Camera.Define(stage, "/Cam").AddTranslateOp().Set(Gf.Vec3d(0, 0, 5))
+    return stage, path
+
+
+def _render(path, tmp_path):
+    return run_gi("render", path, "--spp", 1, "--resolution", 8, 8, "-o", tmp_path / "o.exr", "--no-png", check=False)
+
+
+def test_missing_file(tmp_path):
+    proc = _render(tmp_path / "nope.usda", tmp_path)
+    assert proc.returncode == 2
+    assert "nope.usda: no such file" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_not_a_usd_file(tmp_path):
+    bad = tmp_path / "bad.usda"
+    bad.write_text("this is not USD\n")
+    proc = _render(bad, tmp_path)
+    assert proc.returncode == 2
+    assert "bad.usda: not a readable USD file" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_out_of_range_indices_and_nan_points(tmp_path):
+    stage, path = _stage(tmp_path)
+    mesh = UsdGeom.Mesh.Define(stage, "/World/Broken")
+    mesh.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (0, 1, 0), (math.nan, 0, 0)])
+    mesh.CreateFaceVertexCountsAttr([3, 3, 3])
+    mesh.CreateFaceVertexIndicesAttr([0, 1, 2, 0, 1, 7, 0, 3, 1])
+    stage.Save()
+    proc = _render(path, tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert "/World/Broken" in proc.stderr and "out-of-range" in proc.stderr
+    assert "NaN" in proc.stderr
+
+
+def test_missing_texture_names_material_and_file(tmp_path):
+    stage, path = _stage(tmp_path)
+    mesh = UsdGeom.Mesh.Define(stage, "/World/Quad")
+    mesh.CreatePointsAttr([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)])
+    mesh.CreateFaceVertexCountsAttr([4])
+    mesh.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    material = UsdShade.Material.Define(stage, "/World/Looks/Brick")
+    surface = UsdShade.Shader.Define(stage, "/World/Looks/Brick/Surface")
+    surface.CreateIdAttr("UsdPreviewSurface")
+    texture = UsdShade.Shader.Define(stage, "/World/Looks/Brick/Texture")
+    texture.CreateIdAttr("UsdUVTexture")
+    texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set("missing_brick.png")
+    texture.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
+    surface.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(texture.ConnectableAPI(), "rgb")
+    material.CreateSurfaceOutput().ConnectToSource(surface.ConnectableAPI(), "surface")
+    UsdShade.MaterialBindingAPI.Apply(mesh.GetPrim()).Bind(material)
+    stage.Save()
+    proc = _render(path, tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert "/World/Looks/Brick" in proc.stderr and "missing_brick.png" in proc.stderr
+
+
+def test_unknown_integrator_is_a_usage_error(cornell, tmp_path):
+    proc = run_gi("render", cornell, "--integrator", "magic", check=False)
+    assert proc.returncode == 2 and "invalid choice: 'magic'" in proc.stderr
