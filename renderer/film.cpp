@@ -29,7 +29,9 @@ FilmTile::FilmTile(int x0_, int y0_, int x1_, int y1_, const Filter& filter)
 }
 
 void FilmTile::addSample(float filmX, float filmY, const Color& L, const SampleAovs& aovs) {
-    int cx = int(std::floor(filmX)), cy = int(std::floor(filmY));
+    // x + u rounds up to x + 1 in float for large x and u close to 1: keep the sample in the
+    // pixel it was drawn for.
+    int cx = std::clamp(int(std::floor(filmX)), x0, x1 - 1), cy = std::clamp(int(std::floor(filmY)), y0, y1 - 1);
     auto accumulateAovs = [&](Pixel& p) {
         p.aovWeight += 1;
         for (int c = 0; c < 3; ++c) {

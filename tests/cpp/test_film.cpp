@@ -19,6 +19,15 @@ TEST(Film, BoxFilterAveragesSamplesOfTheirOwnPixel) {
     EXPECT_FLOAT_EQ(c[3], 7.0f);
 }
 
+TEST(Film, SampleAtTheFarEdgeOfALargeCoordinateStaysInItsPixel) {
+    // 199 + 0.99999994f rounds to 200.0f: the sample still belongs to pixel 199.
+    Film film(200, 1);
+    FilmTile tile(192, 0, 200, 1, film.filter());
+    tile.addSample(199.0f + 0.99999994f, 0.99999994f, Color(4.0f), SampleAovs());
+    film.merge(tile);
+    EXPECT_FLOAT_EQ(film.color()[199 * 3], 4.0f);
+}
+
 TEST(Film, GaussianFilterPreservesAConstantImage) {
     Film film(8, 8, Filter::byName("gaussian"));
     for (int ty = 0; ty < 8; ty += 4)
