@@ -23,6 +23,8 @@ Bsdf::Bsdf(const BsdfParams& p)
                           (maxComponent(diffuse_) > 0 || !specular_.smooth() ||
                            (params_.clearcoat > 0 && !clearcoat_.smooth()));
     bool dielectricNonDelta = params_.transmission > 0 && !dielectric_.smooth();
+    hasSpecular_ = maxComponent(params_.specularF0) > 0 || params_.specularF90 > 0;
+    hasClearcoat_ = params_.clearcoat > 0;
     nonDeltaWeight_ = (opaqueNonDelta || dielectricNonDelta) ? 1.0f : 0.0f;
 }
 
@@ -55,23 +57,26 @@ Color Bsdf::evalOpaque(const Vec3& wo, const Vec3& wi) const {
     float ccF = params_.clearcoat * fresnelSchlick(Color(kClearcoatF0), 1, dot(wo, wm)).x;
     float ccView = params_.clearcoat * fresnelSchlick(Color(kClearcoatF0), 1, wo.z).x;
     Color f(0);
-    if (!clearcoat_.smooth() && params_.clearcoat > 0)
+    if (hasClearcoat_ && !clearcoat_.smooth())
         f += Color(opaque * clearcoat_.D(wm) * clearcoat_.G(wo, wi) * ccF / (4 * wo.z * wi.z));
-    Color base(0);
-    Color fs = fresnelSchlick(params_.specularF0, params_.specularF90, dot(wo, wm));
-    if (!specular_.smooth()) base += fs * (opaque * specular_.D(wm) * specular_.G(wo, wi) / (4 * wo.z * wi.z));
-    Color fView = fresnelSchlick(params_.specularF0, params_.specularF90, wo.z);
-    base += diffuse_ * kInvPi * (1 - maxComponent(fView));
+    Color base = diffuse_ * kInvPi;
+    if (hasSpecular_) {
+        Color fs = fresnelSchlick(params_.specularF0, params_.specularF90, dot(wo, wm));
+        if (!specular_.smooth()) base += fs * (opaque * specular_.D(wm) * specular_.G(wo, wi) / (4 * wo.z * wi.z));
+        Color fView = fresnelSchlick(params_.specularF0, params_.specularF90, wo.z);
+        base += diffuse_ * (-kInvPi * maxComponent(fView));
+    }
     return f + base * (1 - ccView);
 }
 
 float Bsdf::pdfOpaqueLobes(const Vec3& wo, const Vec3& wi, const LobeWeights& w) const {
     if (wo.z <= 0 || wi.z <= 0) return 0;
-    Vec3 wm = normalize(wo + wi);
     float pdf = w.diffuse * cosineHemispherePdf(wi.z);
+    if (w.specular <= 0 && w.clearcoat <= 0) return pdf;
+    Vec3 wm = normalize(wo + wi);
     float jacobian = 1 / (4 * absDot(wo, wm));
-    if (!specular_.smooth()) pdf += w.specular * specular_.pdf(wo, wm) * jacobian;
-    if (!clearcoat_.smooth()) pdf += w.clearcoat * clearcoat_.pdf(wo, wm) * jacobian;
+    if (w.specular > 0 && !specular_.smooth()) pdf += w.specular * specular_.pdf(wo, wm) * jacobian;
+    if (w.clearcoat > 0 && !clearcoat_.smooth()) pdf += w.clearcoat * clearcoat_.pdf(wo, wm) * jacobian;
     return pdf;
 }
 
@@ -114,12 +119,17 @@ float Bsdf::pdfRoughDielectric(const Vec3& wo, const Vec3& wi) const {
 }
 
 Color Bsdf::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
-    return evalOpaque(wo, wi) * 1.0f + evalRoughDielectric(wo, wi, mode);
+    Color f = evalOpaque(wo, wi);
+    if (params_.transmission > 0) f += evalRoughDielectric(wo, wi, mode);
+    return f;
 }
 
-float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
-    LobeWeights w = lobeWeights(wo);
-    return pdfOpaqueLobes(wo, wi, w) + w.dielectric * pdfRoughDielectric(wo, wi);
+float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const { return pdfWithWeights(wo, wi, lobeWeights(wo)); }
+
+float Bsdf::pdfWithWeights(const Vec3& wo, const Vec3& wi, const LobeWeights& w) const {
+    float p = pdfOpaqueLobes(wo, wi, w);
+    if (w.dielectric > 0) p += w.dielectric * pdfRoughDielectric(wo, wi);
+    return p;
 }
 
 BsdfSample Bsdf::sampleDielectric(const Vec3& wo, float uc, Vec2 u, TransportMode mode) const {
@@ -205,7 +215,7 @@ BsdfSample Bsdf::sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode)
         if (s.wi.z <= 0) return BsdfSample();
         s.valid = true;
     }
-    s.pdf = pdf(wo, s.wi);
+    s.pdf = pdfWithWeights(wo, s.wi, w);
     Color f = eval(wo, s.wi, mode);
     if (!(s.pdf > 0) || isBlack(f)) return BsdfSample();
     s.weight = f * (absCosTheta(s.wi) / s.pdf);

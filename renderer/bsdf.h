@@ -63,12 +63,15 @@ private:
     float pdfOpaqueLobes(const Vec3& wo, const Vec3& wi, const LobeWeights& w) const;
     Color evalRoughDielectric(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
     float pdfRoughDielectric(const Vec3& wo, const Vec3& wi) const;
+    float pdfWithWeights(const Vec3& wo, const Vec3& wi, const LobeWeights& w) const;
     BsdfSample sampleDielectric(const Vec3& wo, float uc, Vec2 u, TransportMode mode) const;
 
     BsdfParams params_;
     Color diffuse_;  // diffuse reflectance after metallic and transmission
     GGX specular_{0.25f}, clearcoat_{0.01f}, dielectric_{0.01f};
     float nonDeltaWeight_ = 1;
+    // Lobes that can contribute at all: lets a plain Lambertian surface skip the microfacet math.
+    bool hasSpecular_ = true, hasClearcoat_ = true;
 };
 
 }  // namespace gi

@@ -12,7 +12,7 @@
 namespace gi {
 
 RayBenchmarkResult castIncoherentRays(const Scene& scene, uint64_t rays, uint32_t seed, int threads) {
-    const SceneBounds& b = scene.bounds();
+    Vec3 lo = scene.boundsMin(), extent = scene.boundsMax() - scene.boundsMin();
     RTCScene rtc = scene.embreeScene();
     constexpr uint64_t kBatch = 4096;
     uint64_t batches = (rays + kBatch - 1) / kBatch;
@@ -29,7 +29,8 @@ RayBenchmarkResult castIncoherentRays(const Scene& scene, uint64_t rays, uint32_
             uint64_t end = std::min(rays, (batch + 1) * kBatch);
             for (uint64_t i = batch * kBatch; i < end; ++i) {
                 sampler.startStream(uint32_t(batch), uint32_t(i));
-                Vec3 o = b.center + sampleUniformSphere(sampler.get2D()) * (b.radius * std::cbrt(sampler.get1D()));
+                Vec2 u = sampler.get2D();
+                Vec3 o = lo + extent * Vec3(u.x, u.y, sampler.get1D());
                 Vec3 d = sampleUniformSphere(sampler.get2D());
                 RTCRayHit rh;
                 rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;

@@ -1,5 +1,5 @@
 // Embree on its own: casts incoherent closest-hit rays (uniform origins in the scene's bounding
-// sphere, uniform directions) on all threads, as the baseline for the renderer's rays/s.
+// box, uniform directions) on all threads, as the baseline for the renderer's rays/s.
 #pragma once
 #include <cstdint>
 

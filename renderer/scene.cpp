@@ -311,6 +311,8 @@ void Scene::commit() {
     rtcGetSceneBounds(top_, &b);
     Vec3 lo(b.lower_x, b.lower_y, b.lower_z), hi(b.upper_x, b.upper_y, b.upper_z);
     if (isFinite(lo) && isFinite(hi) && hi.x >= lo.x) {
+        boundsMin_ = lo;
+        boundsMax_ = hi;
         bounds_.center = (lo + hi) * 0.5f;
         bounds_.radius = std::max(1e-3f, length(hi - lo) * 0.5f);
     }

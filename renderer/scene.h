@@ -75,6 +75,8 @@ public:
     float lightPmf(int light) const { return lightDistribution_.pmf(light); }
     const std::vector<int>& infiniteLights() const { return infiniteLights_; }
     const SceneBounds& bounds() const { return bounds_; }
+    Vec3 boundsMin() const { return boundsMin_; }
+    Vec3 boundsMax() const { return boundsMax_; }
     const CameraDesc& cameraDesc() const { return cameraDesc_; }
     bool hasCamera() const { return hasCamera_; }
     const Material& material(int id) const { return *materials_[id]; }
@@ -144,6 +146,7 @@ private:
     std::vector<int> infiniteLights_;
     Distribution1D lightDistribution_;
     SceneBounds bounds_;
+    Vec3 boundsMin_{0.0f}, boundsMax_{0.0f};
     CameraDesc cameraDesc_;
     bool hasCamera_ = false;
     bool committed_ = false;
