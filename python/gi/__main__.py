@@ -1,3 +1,4 @@
+"""python -m gi: the same as the `gi` command."""
 import sys
 
 from .cli import main

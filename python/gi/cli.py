@@ -1,69 +1,112 @@
-"""The `gi` command: render, inspect (and, as they land, reference/study/import)."""
+"""The `gi` command: `gi render` (a USD scene to a linear EXR and a display PNG) and `gi inspect`.
+
+gi._core is imported lazily, so `gi --help` and `gi inspect` work before the renderer is built."""
 import argparse
+import datetime
 import json
 import re
 import sys
 import time
 from pathlib import Path
 
+from . import __version__
 from .errors import SceneError
+
+PARAM_TYPES = {"int": int, "float": float}
 
 
 def kebab(name):
     """pathDepth -> path-depth"""
-    return re.sub(r"(?<!^)(?=[A-Z])", "-", name).lower()
+    return re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "-", name).lower()
 
 
-def integrator_params():
-    """{param name: param info} over every integrator, and {integrator: its param names}."""
-    from . import _core
-    params, owners = {}, {}
-    for info in _core.integrators():
-        owners[info["name"]] = {p["name"] for p in info["params"]}
-        for p in info["params"]:
-            params.setdefault(p["name"], p)
-    return params, owners
+def warn(message):
+    print(f"gi: warning: {message}", file=sys.stderr)
 
 
-def add_integrator_flags(parser):
-    params, owners = integrator_params()
-    group = parser.add_argument_group("integrator parameters (generated from each integrator's parameter list)")
-    types = {"int": int, "float": float, "bool": lambda s: s.lower() in ("1", "true", "yes", "on")}
-    for name, p in sorted(params.items()):
-        users = ", ".join(sorted(i for i, names in owners.items() if name in names))
-        group.add_argument(f"--{kebab(name)}", dest=f"param_{name}", type=types[p["type"]], default=None,
-                           metavar=p["type"].upper(),
-                           help=f"{p['description']} (default {p['default']}, range {p['min']}..{p['max']}; {users})")
-    parser.add_argument("--integrator", default="path", choices=sorted(owners),
-                        help="light transport technique (default: path)")
-    return owners
+class CoreMissing(RuntimeError):
+    """gi._core, the compiled renderer, is not built."""
 
 
-def chosen_params(args, owners):
-    """The integrator parameters given on the command line; warns about ones it does not take."""
-    given = {k[len("param_"):]: v for k, v in vars(args).items() if k.startswith("param_") and v is not None}
-    for name in sorted(set(given) - owners[args.integrator]):
-        print(f"gi: warning: --{kebab(name)} is not a parameter of '{args.integrator}'; ignored", file=sys.stderr)
-    return {k: v for k, v in given.items() if k in owners[args.integrator]}
+def require_core():
+    try:
+        from . import _core
+    except ImportError as error:
+        raise CoreMissing(f"gi._core (the compiled renderer) is not available ({error}); "
+                          f"build it with scripts/build.sh") from None
+    return _core
 
+
+# -- integrator parameters as flags --------------------------------------------------------------
+
+def integrator_catalog():
+    """gi._core.integrators(), or [] when the core is not built (`gi render` then says so)."""
+    try:
+        from . import _core
+    except ImportError:
+        return []
+    return _core.integrators()
+
+
+class IntegratorFlags:
+    """Command-line flags generated from every integrator's parameter list."""
+
+    def __init__(self, catalog):
+        self.params = {}   # camelCase name -> its description (the first integrator declaring it wins)
+        self.owners = {}   # integrator name -> names of the parameters it takes
+        for integrator in catalog:
+            self.owners[integrator["name"]] = {p["name"] for p in integrator["params"]}
+            for param in integrator["params"]:
+                self.params.setdefault(param["name"], param)
+
+    def users(self, name):
+        return sorted(i for i, names in self.owners.items() if name in names)
+
+    def add_to(self, parser):
+        group = parser.add_argument_group(
+            "integrator parameters", "generated from gi._core.integrators(); each integrator takes its own")
+        for name, param in sorted(self.params.items()):
+            # default=None tells "not given" apart, so the integrator's own default applies.
+            options = dict(dest=f"param_{name}", default=None,
+                           help=f"{param['description']} (default {param['default']}, "
+                                f"{param['min']}..{param['max']}; {', '.join(self.users(name))})")
+            if param["type"] == "bool":
+                options["action"] = argparse.BooleanOptionalAction
+            else:
+                options.update(type=PARAM_TYPES[param["type"]], metavar=param["type"].upper())
+            group.add_argument(f"--{kebab(name)}", **options)
+
+    def chosen(self, args, parser):
+        """{name: value} of the given flags the chosen integrator takes; warns about the others."""
+        given = {key[len("param_"):]: value for key, value in vars(args).items()
+                 if key.startswith("param_") and value is not None}
+        takes = self.owners.get(args.integrator, set())
+        for name in sorted(set(given) - takes):
+            warn(f"--{kebab(name)} is not a parameter of '{args.integrator}'; ignored")
+        chosen = {name: value for name, value in given.items() if name in takes}
+        for name, value in chosen.items():
+            low, high = self.params[name]["min"], self.params[name]["max"]
+            if not low <= value <= high:
+                parser.error(f"--{kebab(name)} {value} is outside {low}..{high}")
+        return chosen
+
+
+# -- rendering -----------------------------------------------------------------------------------
 
 def progress_bar(description, enabled):
+    """A tqdm bar and the progress(fraction) callback that moves it."""
     from tqdm import tqdm
-    bar = tqdm(total=1000, desc=description, unit="‰", disable=not enabled, leave=False,
+    bar = tqdm(total=100, desc=description, disable=not enabled, leave=False, file=sys.stderr,
                bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}")
+
     def update(fraction):
-        bar.n = int(fraction * 1000)
+        bar.n = min(max(fraction, 0.0), 1.0) * 100
         bar.refresh()
     return bar, update
 
 
-def render_scene(scene_path, integrator="path", params=None, spp=16, seed=0, threads=0, time_limit=0.0,
-                 resolution=None, camera=None, show_progress=False, filter="box"):
-    """Loads and renders a scene; returns (result, loaded scene, settings). Used by every command."""
-    from . import _core
-    from .loader import load_stage
-    loaded = load_stage(scene_path, camera=camera)
-    settings = _core.RenderSettings()
+def render_settings(loaded, integrator, params, spp, seed, threads, time_limit, resolution, pixel_filter):
+    settings = require_core().RenderSettings()
     settings.width, settings.height = resolution or loaded.resolution
     settings.spp = spp
     settings.integrator = integrator
@@ -71,89 +114,141 @@ def render_scene(scene_path, integrator="path", params=None, spp=16, seed=0, thr
     settings.seed = seed
     settings.threads = threads
     settings.time_limit = time_limit
-    settings.filter = filter
-    bar, update = progress_bar(f"{Path(scene_path).name} [{integrator}]", show_progress)
+    if hasattr(settings, "filter"):  # not in _core.pyi's contract; set only where the core has it
+        settings.filter = pixel_filter
+    return settings
+
+
+def render_loaded(loaded, settings, label, show_progress=False):
+    bar, update = progress_bar(label, show_progress)
     try:
-        result = _core.render(loaded.scene, settings, update)
+        return require_core().render(loaded.scene, settings, update)
     finally:
         bar.close()
+
+
+def render_scene(scene_path, integrator="path", params=None, spp=16, seed=0, threads=0, time_limit=0.0,
+                 resolution=None, camera=None, show_progress=False, pixel_filter="box"):
+    """Loads and renders a scene; returns (result, loaded scene, settings)."""
+    from .loader import load_stage
+    loaded = load_stage(scene_path, camera=camera)
+    settings = render_settings(loaded, integrator, params, spp, seed, threads, time_limit, resolution,
+                               pixel_filter)
+    result = render_loaded(loaded, settings, f"{Path(scene_path).name} [{integrator}]", show_progress)
     return result, loaded, settings
 
 
-def cmd_render(args, owners):
-    from . import _core
-    params = chosen_params(args, owners)
+def exr_metadata(args, params, result, loaded, wall_seconds):
+    """String attributes that make the EXR reproducible: what rendered it, how, and when."""
+    return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": loaded.camera_path,
+            "gi:integrator": args.integrator, "gi:spp": str(result.spp), "gi:seed": str(args.seed),
+            "gi:params": json.dumps(params, sort_keys=True),
+            "gi:seconds": f"{result.stats.get('seconds', wall_seconds):.3f}",
+            "gi:wall_seconds": f"{wall_seconds:.3f}",
+            "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
+
+
+def summary(args, settings, result, wall_seconds, outputs):
+    stats = result.stats
+    return (f"{args.scene}: {settings.width}x{settings.height} {args.integrator} {result.spp} spp in "
+            f"{wall_seconds:.2f} s, {stats.get('rays_per_second', 0) / 1e6:.2f} Mrays/s, "
+            f"{stats.get('samples_per_second', 0) / 1e3:.1f} ksamples/s -> {', '.join(outputs)}")
+
+
+def cmd_render(args, flags, parser):
+    from .loader import load_stage
+    _core = require_core()
+    params = flags.chosen(args, parser)
     start = time.perf_counter()
-    result, loaded, settings = render_scene(
-        args.scene, args.integrator, params, args.spp, args.seed, args.threads, args.time_limit,
-        tuple(args.resolution) if args.resolution else None, args.camera, sys.stderr.isatty(), args.filter)
-    wall = time.perf_counter() - start
-    for warning in loaded.warnings + loaded.scene.warnings():
-        print(f"gi: warning: {warning}", file=sys.stderr)
-    out = Path(args.output)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    metadata = {"gi:integrator": args.integrator, "gi:spp": str(result.spp), "gi:seed": str(args.seed),
-                "gi:params": json.dumps(params, sort_keys=True), "gi:scene": str(args.scene),
-                "gi:camera": loaded.camera_path, "gi:seconds": f"{result.stats['seconds']:.3f}"}
-    _core.write_exr(str(out), result, metadata)
-    outputs = [str(out)]
+    loaded = load_stage(args.scene, camera=args.camera)
+    for message in loaded.warnings:
+        warn(message)
+    settings = render_settings(loaded, args.integrator, params, args.spp, args.seed, args.threads,
+                               args.time_limit, tuple(args.resolution) if args.resolution else None, args.filter)
+    label = f"{Path(args.scene).name} [{args.integrator}]"
+    result = render_loaded(loaded, settings, label, show_progress=sys.stderr.isatty())
+    wall_seconds = time.perf_counter() - start
+    for message in loaded.scene.warnings():
+        warn(message)
+
+    exr = Path(args.output) if args.output else Path("out") / f"{Path(args.scene).stem}.exr"
+    exr.parent.mkdir(parents=True, exist_ok=True)
+    _core.write_exr(str(exr), result, exr_metadata(args, params, result, loaded, wall_seconds))
+    outputs = [str(exr)]
     if not args.no_png:
-        png = Path(args.png) if args.png else out.with_suffix(".png")
+        png = Path(args.png) if args.png else exr.with_suffix(".png")
+        png.parent.mkdir(parents=True, exist_ok=True)
         _core.write_png(str(png), result.color, args.display, args.view, args.exposure)
         outputs.append(str(png))
-    s = result.stats
-    print(f"{args.scene}: {settings.width}x{settings.height} {args.integrator} {result.spp} spp in {wall:.2f} s "
-          f"(render {s['render_seconds']:.2f} s, preprocess {s['preprocess_seconds']:.2f} s), "
-          f"{s['rays_per_second'] / 1e6:.2f} Mrays/s, {s['samples_per_second'] / 1e3:.1f} ksamples/s, "
-          f"peak {s['peak_memory_bytes'] / 2**20:.0f} MiB -> {', '.join(outputs)}")
+    print(summary(args, settings, result, wall_seconds, outputs))
     return 0
 
 
 def cmd_inspect(args):
-    from .inspect import inspect_scene, format_report
+    from .inspect import format_report, inspect_scene
     print(format_report(inspect_scene(args.scene)))
     return 0
 
 
+# -- the parser ----------------------------------------------------------------------------------
+
+def positive_int(text):
+    value = int(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"{text} is not a positive integer")
+    return value
+
+
+def add_render_parser(commands, flags):
+    render = commands.add_parser("render", help="render a USD scene to a linear EXR and a display PNG")
+    render.add_argument("scene", help="a USD file (.usd, .usda, .usdc, .usdz)")
+    render.add_argument("-o", "--output", help="EXR path (default: out/<scene name>.exr)")
+    render.add_argument("--integrator", default="path", choices=sorted(flags.owners) or None,
+                        help="light transport technique (default: path)")
+    render.add_argument("--spp", type=positive_int, default=16, help="camera samples per pixel (default 16)")
+    render.add_argument("--seed", type=int, default=0, help="sampler seed (default 0); renders are deterministic")
+    render.add_argument("--threads", type=int, default=0, help="worker threads (default 0 = all cores)")
+    render.add_argument("--time-limit", type=float, default=0.0, metavar="S",
+                        help="stop after the pass that crosses S seconds (default 0 = none)")
+    render.add_argument("--resolution", type=positive_int, nargs=2, metavar=("W", "H"),
+                        help="image size (default: the stage's render settings, else 512 512)")
+    render.add_argument("--camera", metavar="PRIM", help="camera prim path (default: the render settings' camera)")
+    render.add_argument("--filter", default="box", choices=["box", "gaussian"], help="pixel filter (default box)")
+    render.add_argument("--png", help="PNG path (default: the EXR's path with .png)")
+    render.add_argument("--no-png", action="store_true", help="write only the EXR")
+    render.add_argument("--display", default="", help="OCIO display for the PNG (default: the config's)")
+    render.add_argument("--view", default="", help="OCIO view for the PNG (default: the config's)")
+    render.add_argument("--exposure", type=float, default=0.0,
+                        help="stops applied before the PNG's view transform")
+    flags.add_to(render)
+    return render
+
+
 def build_parser():
+    """(parser, its render subparser, the integrator flags)."""
     parser = argparse.ArgumentParser(prog="gi", description="hdGi: CPU global illumination for USD scenes")
-    sub = parser.add_subparsers(dest="command", required=True)
-    render = sub.add_parser("render", help="render a USD scene to a linear EXR and a display PNG")
-    render.add_argument("scene")
-    render.add_argument("-o", "--output", default="out/render.exr", help="EXR path (default out/render.exr)")
-    render.add_argument("--spp", type=int, default=16, help="camera samples per pixel (default 16)")
-    render.add_argument("--seed", type=int, default=0)
-    render.add_argument("--threads", type=int, default=0, help="0 = all cores")
-    render.add_argument("--time-limit", type=float, default=0.0, help="seconds; stops after the pass that passes it")
-    render.add_argument("--resolution", type=int, nargs=2, metavar=("W", "H"), help="override the render settings")
-    render.add_argument("--camera", help="camera prim path (default: the render settings' camera)")
-    render.add_argument("--filter", default="box", choices=["box", "gaussian"], help="pixel reconstruction filter")
-    render.add_argument("--png", help="PNG path (default: next to the EXR)")
-    render.add_argument("--no-png", action="store_true")
-    render.add_argument("--display", default="", help="OCIO display (default: the config's)")
-    render.add_argument("--view", default="", help="OCIO view (default: the config's)")
-    render.add_argument("--exposure", type=float, default=0.0, help="stops, applied before the view transform")
-    owners = add_integrator_flags(render)
-    inspect = sub.add_parser("inspect", help="list what a scene contains and needs")
-    inspect.add_argument("scene")
-    return parser, owners
+    parser.add_argument("--version", action="version", version=f"gi {__version__}")
+    commands = parser.add_subparsers(dest="command", required=True)
+    flags = IntegratorFlags(integrator_catalog())
+    render = add_render_parser(commands, flags)
+    inspect = commands.add_parser("inspect", help="list what a scene contains (counts, lights, textures)")
+    inspect.add_argument("scene", help="a USD file")
+    return parser, render, flags
 
 
 def main(argv=None):
-    parser, owners = build_parser()
+    parser, render_parser, flags = build_parser()
     args = parser.parse_args(argv)
     try:
         if args.command == "render":
-            return cmd_render(args, owners)
-        if args.command == "inspect":
-            return cmd_inspect(args)
-    except SceneError as error:
+            return cmd_render(args, flags, render_parser)
+        return cmd_inspect(args)
+    except (SceneError, CoreMissing, ValueError) as error:  # ValueError: the renderer rejects a setting
         print(f"gi: error: {error}", file=sys.stderr)
         return 2
-    except (ValueError, RuntimeError) as error:
+    except (RuntimeError, OSError) as error:  # e.g. an output file that cannot be written
         print(f"gi: error: {error}", file=sys.stderr)
-        return 2
+        return 1
     except KeyboardInterrupt:
         print("gi: interrupted", file=sys.stderr)
         return 130
-    return 1

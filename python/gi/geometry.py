@@ -1,186 +1,304 @@
-"""UsdGeom prims to triangle arrays: meshes (triangulated, primvars de-indexed) and the implicit
-prims the renderer has no exact shape for (cube, cylinder, cone, capsule, plane)."""
+"""UsdGeom prims to the arrays gi._core.Scene.add_mesh takes: polygon meshes (validated,
+fan-triangulated, primvars de-indexed to what the renderer wants) and tessellations of the
+implicit prims the renderer has no exact shape for (cube, cylinder, cone, capsule, plane).
+
+`warn(message)` reports a problem; the caller adds the file and prim path."""
 from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
 from pxr import UsdGeom
 
+UV_PRIMVAR_NAMES = ("st", "st0", "UVMap")
+IMPLICIT_TYPES = ("Cube", "Cylinder", "Cylinder_1", "Cone", "Capsule", "Capsule_1", "Plane")
+
 
 @dataclass
 class Triangles:
-    positions: np.ndarray           # (N, 3) float32
-    indices: np.ndarray             # (M, 3) uint32
-    normals: Optional[np.ndarray]   # (N, 3) float32 or None
-    uvs: Optional[np.ndarray]       # (N, 2) float32 or None
+    positions: np.ndarray             # (N, 3) float32
+    indices: np.ndarray               # (M, 3) uint32
+    normals: Optional[np.ndarray] = None   # (N, 3) float32
+    uvs: Optional[np.ndarray] = None       # (N, 2) float32
+
+    def contiguous(self):
+        """nanobind takes C-contiguous arrays of exactly these dtypes."""
+        def fix(a, dtype):
+            return None if a is None else np.ascontiguousarray(a, dtype=dtype)
+        return Triangles(fix(self.positions, np.float32), fix(self.indices, np.uint32),
+                         fix(self.normals, np.float32), fix(self.uvs, np.float32))
 
 
-def _fan_triangulate(counts, indices, warn, name):
-    """Fan-triangulates polygons. Returns (triangle corner -> face-vertex slot) as (M, 3) and
-    (triangle -> face index). Polygons with fewer than 3 vertices are dropped with a warning."""
-    counts = np.asarray(counts, dtype=np.int64)
-    if counts.size and (counts < 0).any():
-        warn(f"mesh {name}: negative faceVertexCounts; mesh ignored")
-        return np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
-    if counts.sum() != len(indices):
-        warn(f"mesh {name}: faceVertexCounts sum to {counts.sum()} but there are {len(indices)} "
-             f"faceVertexIndices; faces past the end dropped")
-    starts = np.concatenate([[0], np.cumsum(counts)[:-1]]) if counts.size else np.zeros(0, np.int64)
-    small = int((counts < 3).sum())
-    if small:
-        warn(f"mesh {name}: {small} faces with fewer than 3 vertices dropped")
-    tri_count = np.maximum(counts - 2, 0)
-    face_of_tri = np.repeat(np.arange(len(counts)), tri_count)
-    first = np.repeat(starts, tri_count)
-    k = np.arange(tri_count.sum()) - np.repeat(np.cumsum(tri_count) - tri_count, tri_count)
+# -- polygon meshes: topology ---------------------------------------------------------------------
+
+def usable_faces(counts, indices, points, warn):
+    """Boolean mask of the faces that can be triangulated; warns once per kind of problem."""
+    face_count = len(counts)
+    ends = np.cumsum(counts)
+    keep = counts >= 3
+    if not keep.all():
+        warn(f"{int((~keep).sum())} faces with fewer than 3 vertices dropped")
+    past_end = ends > len(indices)
+    if past_end.any():
+        warn(f"faceVertexCounts sum to {int(ends[-1])} but there are {len(indices)} faceVertexIndices; "
+             f"{int(past_end.sum())} faces past the end dropped")
+        keep &= ~past_end
+    elif face_count and ends[-1] < len(indices):
+        warn(f"faceVertexCounts sum to {int(ends[-1])} but there are {len(indices)} faceVertexIndices; "
+             f"the extra indices are ignored")
+
+    covered = int(min(ends[-1], len(indices))) if face_count else 0
+    face_of_corner = np.repeat(np.arange(face_count), counts)[:covered]
+    corner_points = indices[:covered]
+
+    def faces_where(corner_is_bad):
+        return np.bincount(face_of_corner[corner_is_bad], minlength=face_count) > 0
+
+    out_of_range = (corner_points < 0) | (corner_points >= len(points))
+    bad = faces_where(out_of_range) & keep
+    if bad.any():
+        warn(f"{int(bad.sum())} faces with out-of-range point indices (valid: 0..{len(points) - 1}) dropped")
+        keep &= ~bad
+
+    finite_point = np.isfinite(points).all(axis=1)
+    uses_nonfinite = np.zeros(covered, bool)
+    uses_nonfinite[~out_of_range] = ~finite_point[corner_points[~out_of_range]]
+    bad = faces_where(uses_nonfinite) & keep
+    if bad.any():
+        warn(f"{int(bad.sum())} faces using NaN/Inf points dropped")
+        keep &= ~bad
+    return keep
+
+
+def fan_triangulate(counts, keep):
+    """Triangles (v0, vk, vk+1) of each kept polygon, as (M, 3) positions in faceVertexIndices
+    ("slots"), and the face each triangle came from."""
+    starts = np.cumsum(counts) - counts
+    kept_counts, kept_starts = counts[keep], starts[keep]
+    per_face = kept_counts - 2
+    face_of_triangle = np.repeat(np.flatnonzero(keep), per_face)
+    first = np.repeat(kept_starts, per_face)
+    k = np.arange(per_face.sum()) - np.repeat(np.cumsum(per_face) - per_face, per_face)
     slots = np.stack([first, first + k + 1, first + k + 2], axis=1)
-    in_range = (slots < len(indices)).all(axis=1)
-    return slots[in_range], face_of_tri[in_range]
+    return slots, face_of_triangle
 
 
-def _primvar(prim_api, names):
-    for name in names:
-        pv = prim_api.GetPrimvar(name)
-        if pv and pv.HasValue():
-            return pv
+# -- polygon meshes: primvars ---------------------------------------------------------------------
+
+@dataclass
+class PrimvarData:
+    """Values that are either per point (shared by the corners using that point) or per corner."""
+    values: np.ndarray
+    per_corner: bool
+
+
+def primvar_data(values, interpolation, topology, what, warn) -> Optional[PrimvarData]:
+    """Resolves a flattened primvar of any interpolation against the triangulation."""
+    if values is None:  # ComputeFlattened fails on out-of-range primvar indices
+        warn(f"{what} has invalid indices; ignored")
+        return None
+    values = np.asarray(values, dtype=np.float32)
+    if values.ndim != 2 or len(values) == 0:
+        return None
+    if not np.isfinite(values).all():
+        warn(f"{what} has NaN/Inf values; ignored")
+        return None
+    needed = {UsdGeom.Tokens.vertex: topology.point_count, UsdGeom.Tokens.varying: topology.point_count,
+              UsdGeom.Tokens.faceVarying: topology.corner_count, UsdGeom.Tokens.uniform: topology.face_count,
+              UsdGeom.Tokens.constant: 1}.get(interpolation)
+    if needed is None:
+        warn(f"{what} has unsupported interpolation '{interpolation}'; ignored")
+        return None
+    if len(values) < needed:
+        warn(f"{what} has {len(values)} values but its '{interpolation}' interpolation needs {needed}; ignored")
+        return None
+    if interpolation in (UsdGeom.Tokens.vertex, UsdGeom.Tokens.varying):
+        return PrimvarData(values[:topology.point_count], per_corner=False)
+    if interpolation == UsdGeom.Tokens.constant:
+        return PrimvarData(np.repeat(values[:1], topology.point_count, axis=0), per_corner=False)
+    if interpolation == UsdGeom.Tokens.faceVarying:
+        return PrimvarData(values[topology.slots.reshape(-1)], per_corner=True)
+    return PrimvarData(values[np.repeat(topology.face_of_triangle, 3)], per_corner=True)  # uniform
+
+
+@dataclass
+class Topology:
+    point_count: int
+    corner_count: int     # len(faceVertexIndices)
+    face_count: int
+    slots: np.ndarray     # (M, 3) positions in faceVertexIndices
+    face_of_triangle: np.ndarray
+
+
+def mesh_normals(mesh, time, topology, warn) -> Optional[PrimvarData]:
+    """primvars:normals if authored (it wins over the normals attribute), else normals."""
+    primvar = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("normals")
+    if primvar and primvar.HasAuthoredValue():
+        return primvar_data(primvar.ComputeFlattened(time), primvar.GetInterpolation(), topology,
+                            "primvars:normals", warn)
+    attribute = mesh.GetNormalsAttr()
+    if attribute.HasAuthoredValue():
+        return primvar_data(attribute.Get(time), mesh.GetNormalsInterpolation(), topology, "normals", warn)
     return None
 
 
-def _expand(values, interpolation, slots, vertex_index, face_of_tri, warn, what, name):
-    """Per-corner (M*3, C) values for a primvar of any interpolation, or None if unusable."""
-    values = np.asarray(values, dtype=np.float32)
-    corner_count = slots.size
-    if interpolation in (UsdGeom.Tokens.vertex, UsdGeom.Tokens.varying):
-        lookup = vertex_index.reshape(-1)
-    elif interpolation == UsdGeom.Tokens.faceVarying:
-        lookup = slots.reshape(-1)
-    elif interpolation == UsdGeom.Tokens.uniform:
-        lookup = np.repeat(face_of_tri, 3)
-    elif interpolation == UsdGeom.Tokens.constant:
-        lookup = np.zeros(corner_count, np.int64)
-    else:
-        warn(f"mesh {name}: {what} has unsupported interpolation '{interpolation}'; ignored")
-        return None
-    if lookup.size and lookup.max() >= len(values):
-        warn(f"mesh {name}: {what} has {len(values)} values, too few for its '{interpolation}' "
-             f"interpolation; ignored")
-        return None
-    return values[lookup]
-
-
-def mesh_triangles(mesh: UsdGeom.Mesh, time, warn) -> Optional[Triangles]:
-    name = str(mesh.GetPath())
-    points = np.asarray(mesh.GetPointsAttr().Get(time) or [], dtype=np.float32).reshape(-1, 3)
-    counts = mesh.GetFaceVertexCountsAttr().Get(time) or []
-    indices = np.asarray(mesh.GetFaceVertexIndicesAttr().Get(time) or [], dtype=np.int64)
-    if len(points) == 0 or len(indices) == 0:
-        warn(f"mesh {name}: no points or no faces; ignored")
-        return None
-    slots, face_of_tri = _fan_triangulate(counts, indices, warn, name)
-    vertex_index = indices[slots]
-    bad = (vertex_index < 0) | (vertex_index >= len(points))
-    if bad.any():
-        keep = ~bad.any(axis=1)
-        warn(f"mesh {name}: {int((~keep).sum())} triangles with out-of-range point indices dropped")
-        slots, face_of_tri, vertex_index = slots[keep], face_of_tri[keep], vertex_index[keep]
-    if mesh.GetOrientationAttr().Get(time) == UsdGeom.Tokens.leftHanded:
-        slots, vertex_index = slots[:, ::-1], vertex_index[:, ::-1]
-    if len(slots) == 0:
-        warn(f"mesh {name}: no valid triangles; ignored")
-        return None
-    if mesh.GetSubdivisionSchemeAttr().Get(time) not in (None, UsdGeom.Tokens.none):
-        pass  # rendered as its control cage: subdivision is refined by the Hydra delegate (OpenSubdiv)
-
+def uv_primvar(mesh, preferred_names=()):
+    """The texture-coordinate primvar: the material's reader's name, st, st0, UVMap, else the first
+    texCoord2f[] primvar."""
     api = UsdGeom.PrimvarsAPI(mesh)
-    normals = None
-    normal_pv = _primvar(api, ["normals"])
-    if normal_pv is not None:
-        normals = _expand(normal_pv.ComputeFlattened(time), normal_pv.GetInterpolation(), slots,
-                          vertex_index, face_of_tri, warn, "primvars:normals", name)
-    elif mesh.GetNormalsAttr().HasAuthoredValue():
-        normals = _expand(mesh.GetNormalsAttr().Get(time), mesh.GetNormalsInterpolation(), slots,
-                          vertex_index, face_of_tri, warn, "normals", name)
-    uvs = None
-    st_pv = _primvar(api, ["st", "st0", "UVMap", "uv"])
-    if st_pv is not None:
-        uvs = _expand(st_pv.ComputeFlattened(time), st_pv.GetInterpolation(), slots, vertex_index,
-                      face_of_tri, warn, f"primvars:{st_pv.GetPrimvarName()}", name)
+    for name in (*preferred_names, *UV_PRIMVAR_NAMES):
+        primvar = api.GetPrimvar(name)
+        if primvar and primvar.HasAuthoredValue():
+            return primvar
+    for primvar in api.GetPrimvarsWithAuthoredValues():
+        if str(primvar.GetTypeName()) == "texCoord2f[]":
+            return primvar
+    return None
 
-    # Corners become vertices when any primvar varies per corner; otherwise points are shared.
-    per_corner = (normals is not None and normal_pv is not None and
-                  normal_pv.GetInterpolation() != UsdGeom.Tokens.vertex) or \
-                 (uvs is not None and st_pv.GetInterpolation() != UsdGeom.Tokens.vertex) or \
-                 (normals is not None and normal_pv is None and
-                  mesh.GetNormalsInterpolation() != UsdGeom.Tokens.vertex)
-    if per_corner:
-        positions = points[vertex_index.reshape(-1)]
-        tri = np.arange(len(positions), dtype=np.uint32).reshape(-1, 3)
-        return Triangles(positions, tri, normals, uvs)
-    # Vertex interpolation: values were expanded per corner; take them back per point.
-    def per_point(values):
-        if values is None:
+
+def mesh_uvs(mesh, time, topology, warn, preferred_names=()) -> Optional[PrimvarData]:
+    primvar = uv_primvar(mesh, preferred_names)
+    if primvar is None:
+        return None
+    data = primvar_data(primvar.ComputeFlattened(time), primvar.GetInterpolation(), topology,
+                        f"primvars:{primvar.GetPrimvarName()}", warn)
+    if data is not None and data.values.shape[1] != 2:
+        warn(f"primvars:{primvar.GetPrimvarName()} is not 2-dimensional; ignored")
+        return None
+    return data
+
+
+# -- polygon meshes: assembly ---------------------------------------------------------------------
+
+def share_points(points, vertex_index, primvars):
+    """Triangles over the points the kept faces use (unused, possibly NaN, points left out)."""
+    used = np.unique(vertex_index)
+    remap = np.full(len(points), -1, np.int64)
+    remap[used] = np.arange(len(used))
+    return Triangles(points[used], remap[vertex_index],
+                     *[None if p is None else p.values[used] for p in primvars])
+
+
+def split_corners(points, vertex_index, primvars):
+    """One vertex per triangle corner: needed as soon as any primvar varies per face corner."""
+    corner_points = vertex_index.reshape(-1)
+
+    def per_corner(p):
+        if p is None:
             return None
-        out = np.zeros((len(points), values.shape[1]), np.float32)
-        out[vertex_index.reshape(-1)] = values
-        return out
-    return Triangles(points, vertex_index.astype(np.uint32), per_point(normals), per_point(uvs))
+        return p.values if p.per_corner else p.values[corner_points]
+    indices = np.arange(len(corner_points)).reshape(-1, 3)
+    return Triangles(points[corner_points], indices, *[per_corner(p) for p in primvars])
 
 
-def _axis_frame(axis):
-    """Rows mapping a shape built along +Z onto the given axis."""
+def mesh_triangles(mesh: UsdGeom.Mesh, time, warn, uv_names=()) -> Optional[Triangles]:
+    """The mesh's valid faces as triangles, or None (with a warning) if none remain."""
+    points = np.asarray(mesh.GetPointsAttr().Get(time) or [], dtype=np.float64).reshape(-1, 3)
+    counts = np.asarray(mesh.GetFaceVertexCountsAttr().Get(time) or [], dtype=np.int64)
+    indices = np.asarray(mesh.GetFaceVertexIndicesAttr().Get(time) or [], dtype=np.int64)
+    if len(points) == 0 or len(counts) == 0:
+        warn("mesh has no points or no faces; ignored")
+        return None
+    if (counts < 0).any():
+        warn("faceVertexCounts has negative counts; mesh ignored")
+        return None
+    keep = usable_faces(counts, indices, points, warn)
+    if not keep.any():
+        warn("no valid faces remain; mesh ignored")
+        return None
+    slots, face_of_triangle = fan_triangulate(counts, keep)
+    if mesh.GetOrientationAttr().Get(time) == UsdGeom.Tokens.leftHanded:
+        slots = slots[:, [0, 2, 1]]  # the renderer takes counter-clockwise (right-handed) triangles
+    topology = Topology(len(points), len(indices), len(counts), slots, face_of_triangle)
+    primvars = (mesh_normals(mesh, time, topology, warn), mesh_uvs(mesh, time, topology, warn, uv_names))
+    vertex_index = indices[slots]
+    if any(p is not None and p.per_corner for p in primvars):
+        triangles = split_corners(points, vertex_index, primvars)
+    else:
+        triangles = share_points(points, vertex_index, primvars)
+    return triangles.contiguous()
+
+
+# -- implicit prims ------------------------------------------------------------------------------
+
+def axis_frame(axis):
+    """Rows mapping a shape built around +Z onto `axis` (row vectors: p @ frame); determinant +1,
+    so windings stay outward-facing."""
     if axis == "X":
-        return np.array([[0, 0, -1], [0, 1, 0], [1, 0, 0]], np.float32)  # z -> x
+        return np.array([[0, 0, -1], [0, 1, 0], [1, 0, 0]], np.float64)
     if axis == "Y":
-        return np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], np.float32)  # z -> y
-    return np.eye(3, dtype=np.float32)
+        return np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]], np.float64)
+    return np.eye(3)
 
 
-def _revolve(profile, segments):
-    """A surface of revolution around +Z from (radius, z) profile points, as Triangles."""
+def revolve(profile, segments):
+    """A closed surface of revolution about +Z from a bottom-to-top (radius, z) profile."""
     angles = np.linspace(0, 2 * np.pi, segments, endpoint=False)
     rings = [np.stack([r * np.cos(angles), r * np.sin(angles), np.full(segments, z)], axis=1)
              for r, z in profile]
-    positions = np.concatenate(rings).astype(np.float32)
-    tris = []
-    for i in range(len(profile) - 1):
-        for j in range(segments):
-            a, b = i * segments + j, i * segments + (j + 1) % segments
-            c, d = a + segments, b + segments
-            tris += [(a, b, d), (a, d, c)]
-    tris = np.array(tris, np.uint32)
-    # Rings of radius 0 (the poles) make zero-area triangles: leave them out.
-    p = positions[tris]
+    positions = np.concatenate(rings)
+    ring, step = np.meshgrid(np.arange(len(profile) - 1), np.arange(segments), indexing="ij")
+    a = (ring * segments + step).reshape(-1)
+    b = (ring * segments + (step + 1) % segments).reshape(-1)
+    c, d = a + segments, b + segments
+    triangles = np.concatenate([np.stack([a, b, d], 1), np.stack([a, d, c], 1)])
+    # Rings of radius 0 (poles, apexes) make zero-area triangles: leave them out.
+    p = positions[triangles]
     area = np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
-    return positions, tris[area > 1e-12]
+    return positions, triangles[area > 1e-12]
+
+
+def cube_triangles(size):
+    s = size / 2
+    corners = np.array([[x, y, z] for x in (-s, s) for y in (-s, s) for z in (-s, s)], np.float64)
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    triangles = np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))])
+    return corners, triangles
+
+
+def plane_triangles(width, length, axis):
+    w, l = width / 2, length / 2
+    quad = np.array([[-w, -l, 0], [w, -l, 0], [w, l, 0], [-w, l, 0]], np.float64)
+    return quad @ axis_frame(axis), np.array([[0, 1, 2], [0, 2, 3]])
+
+
+def hemisphere_profile(radius, center_z, upper, rings=8):
+    """(radius, z) from the equator to the pole (upper) or from the pole to the equator (lower)."""
+    angles = np.linspace(0, np.pi / 2, rings + 1)
+    cap = [(radius * np.cos(a), center_z + radius * np.sin(a)) for a in angles]
+    return cap if upper else [(r, 2 * center_z - z) for r, z in reversed(cap)]
+
+
+def round_profile(type_name, height, radius_bottom, radius_top):
+    """Bottom-to-top (radius, z) profile of a cylinder, cone or capsule centred at the origin."""
+    h = height / 2
+    if type_name.startswith("Cylinder"):
+        return [(0, -h), (radius_bottom, -h), (radius_top, h), (0, h)]
+    if type_name == "Cone":
+        return [(0, -h), (radius_bottom, -h), (0, h)]  # apex at +h along the axis
+    return (hemisphere_profile(radius_bottom, -h, upper=False)
+            + hemisphere_profile(radius_top, h, upper=True))  # capsule: height excludes the caps
 
 
 def implicit_triangles(prim, time, warn, segments=48) -> Optional[Triangles]:
-    """Tessellates UsdGeom Cube / Cylinder / Cone / Capsule / Plane."""
+    """Tessellates UsdGeom Cube / Plane / Cylinder(_1) / Cone / Capsule(_1)."""
     type_name = prim.GetTypeName()
+    schema = getattr(UsdGeom, type_name, None)
+    if type_name not in IMPLICIT_TYPES or schema is None:
+        warn(f"{type_name} is not supported; ignored")
+        return None
+    shape = schema(prim)
+
+    def get(attribute):
+        return getattr(shape, f"Get{attribute}Attr")().Get(time)
     if type_name == "Cube":
-        s = float(UsdGeom.Cube(prim).GetSizeAttr().Get(time)) / 2
-        corners = np.array([[x, y, z] for x in (-s, s) for y in (-s, s) for z in (-s, s)], np.float32)
-        quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-        tris = np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))], np.uint32)
-        return Triangles(corners, tris, None, None)
-    if type_name == "Plane":
-        plane = UsdGeom.Plane(prim)
-        w, l = float(plane.GetWidthAttr().Get(time)) / 2, float(plane.GetLengthAttr().Get(time)) / 2
-        quad = np.array([[-w, -l, 0], [w, -l, 0], [w, l, 0], [-w, l, 0]], np.float32)
-        frame = _axis_frame(plane.GetAxisAttr().Get(time))
-        return Triangles(quad @ frame, np.array([[0, 1, 2], [0, 2, 3]], np.uint32), None, None)
-    if type_name in ("Cylinder", "Cone", "Capsule"):
-        schema = getattr(UsdGeom, type_name)(prim)
-        h = float(schema.GetHeightAttr().Get(time)) / 2
-        r = float(schema.GetRadiusAttr().Get(time))
-        if type_name == "Cylinder":
-            profile = [(0, -h), (r, -h), (r, h), (0, h)]
-        elif type_name == "Cone":
-            profile = [(0, -h), (r, -h), (0, h)]
+        positions, triangles = cube_triangles(float(get("Size")))
+    elif type_name == "Plane":
+        positions, triangles = plane_triangles(float(get("Width")), float(get("Length")), get("Axis"))
+    else:
+        if type_name.endswith("_1"):
+            bottom, top = float(get("RadiusBottom")), float(get("RadiusTop"))
         else:
-            cap = [(r * np.cos(a), h + r * np.sin(a)) for a in np.linspace(0, np.pi / 2, 9)]
-            profile = [(x, -z) for x, z in reversed(cap)] + cap
-        positions, tris = _revolve(profile, segments)
-        return Triangles(positions @ _axis_frame(schema.GetAxisAttr().Get(time)), tris, None, None)
-    warn(f"prim {prim.GetPath()}: {type_name} is not supported; ignored")
-    return None
+            bottom = top = float(get("Radius"))
+        positions, triangles = revolve(round_profile(type_name, float(get("Height")), bottom, top), segments)
+        positions = positions @ axis_frame(get("Axis"))
+    return Triangles(positions, triangles).contiguous()

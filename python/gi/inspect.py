@@ -1,60 +1,46 @@
-"""`gi inspect`: what a scene contains and what rendering it needs."""
-import os
-from collections import Counter
-
-from pxr import Sdf, Usd, UsdGeom, UsdShade
-
-from .lights import LIGHT_KINDS
-from .loader import load_stage, open_stage
+"""`gi inspect`: what a scene contains, as the loader sees it."""
+from .descriptors import HAVE_CORE, CountingScene, new_scene
+from .loader import load_stage
 
 
 def inspect_scene(path):
-    stage = open_stage(str(path))
-    types = Counter(p.GetTypeName() or "(typeless)" for p in stage.Traverse())
-    textures, subdivision = {}, 0
-    for prim in stage.Traverse():
-        if prim.IsA(UsdGeom.Mesh):
-            scheme = UsdGeom.Mesh(prim).GetSubdivisionSchemeAttr().Get()
-            subdivision += scheme not in (None, UsdGeom.Tokens.none)
-        if prim.IsA(UsdShade.Shader) and UsdShade.Shader(prim).GetIdAttr().Get() == "UsdUVTexture":
-            asset = UsdShade.Shader(prim).GetInput("file").Get() if UsdShade.Shader(prim).GetInput("file") else None
-            if isinstance(asset, Sdf.AssetPath) and asset.path:
-                resolved = asset.resolvedPath
-                textures[asset.path] = resolved if resolved and os.path.isfile(resolved) else None
-    loaded = load_stage(path)
+    """Loads `path` (into the real renderer when it is built, for its statistics) and reports."""
+    loaded = load_stage(path, new_scene() if HAVE_CORE else CountingScene())
     loaded.scene.commit()
     stats = loaded.scene.stats()
+    specular = stats.get("specular_surfaces")
     return {
         "file": str(path),
-        "prims": sum(types.values()),
-        "types": dict(types),
-        "lights": {kind: types.get(t, 0) for t, kind in LIGHT_KINDS.items() if types.get(t, 0)},
+        "prims": loaded.prims,
         "counts": loaded.counts,
-        "triangles": int(stats["triangles"]),
-        "subdivision_meshes": subdivision,
-        "textures": textures,
-        "texture_bytes": int(stats["texture_bytes"]),
-        "specular_surfaces": bool(stats["specular_surfaces"]),
-        "dome_lights": types.get("DomeLight", 0) + types.get("DomeLight_1", 0),
-        "instances": loaded.counts["instances"],
+        "lights": loaded.light_kinds,
+        "textures": loaded.textures,
         "camera": loaded.camera_path,
         "resolution": loaded.resolution,
-        "warnings": loaded.warnings + loaded.scene.warnings(),
+        "caustic_paths": None if specular is None else bool(specular),
+        "warnings": loaded.warnings + list(loaded.scene.warnings()),
     }
 
 
-def format_report(r):
-    lines = [f"{r['file']}: {r['prims']} prims, {r['triangles']} triangles, "
-             f"{r['counts']['spheres']} exact spheres, {r['counts']['meshes']} meshes, "
-             f"{r['counts']['materials']} materials",
-             f"  camera {r['camera'] or '(none)'} at {r['resolution'][0]}x{r['resolution'][1]}",
-             f"  lights: " + (", ".join(f"{n} {k}" for k, n in r["lights"].items()) or "none"),
-             f"  instances: {r['instances']} of {r['counts']['prototypes']} prototypes",
-             f"  needs: caustic paths {'yes' if r['specular_surfaces'] else 'no'}, "
-             f"subdivision {r['subdivision_meshes']} meshes, dome light {'yes' if r['dome_lights'] else 'no'}, "
-             f"textures {len(r['textures'])} ({r['texture_bytes'] / 2**20:.1f} MiB loaded)"]
-    for asset, resolved in sorted(r["textures"].items()):
-        lines.append(f"    texture {asset}: {resolved or 'MISSING'}")
-    for w in r["warnings"]:
-        lines.append(f"  warning: {w}")
+def yes_no(value):
+    return "unknown (gi._core not built)" if value is None else ("yes" if value else "no")
+
+
+def format_report(report):
+    counts = report["counts"]
+    lights = ", ".join(f"{n} {kind}" for kind, n in sorted(report["lights"].items())) or "none"
+    missing = sum(resolved is None for resolved in report["textures"].values())
+    lines = [
+        f"{report['file']}: {report['prims']} prims, {counts['meshes']} meshes, {counts['triangles']} triangles, "
+        f"{counts['spheres']} exact spheres, {counts['materials']} materials",
+        f"  camera: {report['camera'] or '(none: framing the scene from +Z)'} at "
+        f"{report['resolution'][0]}x{report['resolution'][1]}",
+        f"  lights: {lights}",
+        f"  instances: {counts['instances']} of {counts['prototypes']} prototypes",
+        f"  textures: {len(report['textures'])} ({missing} missing)",
+    ]
+    for asset, resolved in sorted(report["textures"].items()):
+        lines.append(f"    {asset}: {resolved or 'MISSING'}")
+    lines.append(f"  needs: caustic paths {yes_no(report['caustic_paths'])}")
+    lines += [f"  warning: {message}" for message in report["warnings"]]
     return "\n".join(lines)

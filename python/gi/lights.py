@@ -1,51 +1,112 @@
-"""UsdLux lights to gi LightDesc."""
+"""UsdLux lights to LightDesc.
+
+`warn(prim_path, message)` reports a problem; the caller adds the file name."""
+import os
+
 import numpy as np
 from pxr import Sdf, UsdLux
 
-from . import _core
+from . import descriptors
 
 LIGHT_KINDS = {"RectLight": "rect", "DiskLight": "disk", "SphereLight": "sphere",
                "CylinderLight": "cylinder", "DistantLight": "distant", "DomeLight": "dome",
                "DomeLight_1": "dome"}
 
+# LightDesc field -> (UsdLux input, kind). Unauthored inputs take the schema's fallback.
+COMMON_INPUTS = {"color": ("color", "color"), "intensity": ("intensity", "float"),
+                 "exposure": ("exposure", "float"), "normalize": ("normalize", "bool")}
+SHAPE_INPUTS = {
+    "rect": {"width": "width", "height": "height"},
+    "disk": {"radius": "radius"},
+    "sphere": {"radius": "radius"},
+    "cylinder": {"radius": "radius", "length": "length"},
+    "distant": {"angle": "angle"},
+    "dome": {},
+}
 
-def _get(prim, name, default):
-    attr = prim.GetAttribute("inputs:" + name)
-    if not attr or not attr.HasValue():
-        attr = prim.GetAttribute(name)  # pre-connectable-schema files
-    v = attr.Get() if attr and attr.HasValue() else None
-    return default if v is None else v
+
+def is_light(prim):
+    return prim.HasAPI(UsdLux.LightAPI)
 
 
-def light_desc(prim, world_matrix, warn):
-    kind = LIGHT_KINDS.get(prim.GetTypeName())
+def light_kind(prim):
+    """'rect', 'disk', ... or None for light types the renderer does not have."""
+    return LIGHT_KINDS.get(prim.GetTypeName())
+
+
+def light_input(prim, name, time):
+    """An input's value: inputs:<name>, else the pre-UsdLux-21.05 un-prefixed <name>, else the
+    schema's fallback (None if there is none)."""
+    attribute = prim.GetAttribute("inputs:" + name)
+    legacy = prim.GetAttribute(name)
+    if not (attribute and attribute.HasAuthoredValue()) and legacy and legacy.HasAuthoredValue():
+        attribute = legacy
+    return attribute.Get(time) if attribute else None
+
+
+def converted(value, kind):
+    if kind == "color":
+        return tuple(float(c) for c in value)
+    if kind == "bool":
+        return bool(value)
+    return float(value)
+
+
+def light_texture(prim, kind, time, warn):
+    """Resolved path of a dome's (or rect's) inputs:texture:file, '' when none or missing."""
+    if kind not in ("dome", "rect"):
+        return ""
+    asset = light_input(prim, "texture:file", time)
+    if not isinstance(asset, Sdf.AssetPath) or not asset.path:
+        return ""
+    resolved = asset.resolvedPath
+    if not resolved or not os.path.isfile(resolved):
+        warn(str(prim.GetPath()), f"texture file '{asset.path}' was not found; using the light's color")
+        return ""
+    if kind == "dome":
+        layout = light_input(prim, "texture:format", time)
+        if layout not in (None, "automatic", "latlong"):
+            warn(str(prim.GetPath()), f"texture:format '{layout}' is not supported; read as latlong")
+    return resolved
+
+
+def warn_unsupported_features(prim, time, warn):
+    path = str(prim.GetPath())
+    if prim.HasAPI(UsdLux.ShapingAPI):
+        warn(path, "shaping (cone, focus, IES profile) is not supported; emitting unshaped")
+    filters = UsdLux.LightAPI(prim).GetFiltersRel().GetTargets()
+    if filters:
+        warn(path, f"{len(filters)} light filters are not supported; ignored")
+    if light_input(prim, "treatAsPoint", time) or light_input(prim, "treatAsLine", time):
+        warn(path, "treatAsPoint/treatAsLine is not supported; emitting from the light's full shape")
+
+
+def visible_to_camera(prim, time):
+    """Area lights show in camera rays unless a visibleInPrimaryRay input says otherwise."""
+    value = light_input(prim, "visibleInPrimaryRay", time)
+    return True if value is None else bool(value)
+
+
+def light_desc(prim, world_matrix, time, warn):
+    """LightDesc of a UsdLux light prim, or None (with a warning) for unsupported light types."""
+    path = str(prim.GetPath())
+    kind = light_kind(prim)
     if kind is None:
+        warn(path, f"{prim.GetTypeName() or 'this light'} is not supported; ignored")
         return None
-    d = _core.LightDesc()
-    d.name = str(prim.GetPath())
-    d.kind = kind
-    d.color = tuple(float(c) for c in _get(prim, "color", (1, 1, 1)))
-    d.intensity = float(_get(prim, "intensity", 1.0))
-    d.exposure = float(_get(prim, "exposure", 0.0))
-    d.normalize = bool(_get(prim, "normalize", False))
-    d.width = float(_get(prim, "width", 1.0))
-    d.height = float(_get(prim, "height", 1.0))
-    d.radius = float(_get(prim, "radius", 0.5))
-    d.length = float(_get(prim, "length", 1.0))
-    d.angle = float(_get(prim, "angle", 0.53))
-    texture = _get(prim, "texture:file", None)
-    if isinstance(texture, Sdf.AssetPath) and texture.path:
-        if texture.resolvedPath:
-            d.texture_file = texture.resolvedPath
-        else:
-            warn(f"light {d.name}: texture {texture.path} does not resolve to a file; using its color")
-    if kind == "rect" and d.texture_file:
-        warn(f"light {d.name}: rect light textures are not supported; using its color")
-        d.texture_file = ""
-    if prim.HasAPI(UsdLux.ShapingAPI) if hasattr(UsdLux, "ShapingAPI") else False:
-        warn(f"light {d.name}: shaping (cone, focus, IES) is not supported; emitting unshaped")
-    camera_visibility = prim.GetAttribute("visibleInPrimaryRay")
-    if camera_visibility and camera_visibility.HasValue():
-        d.visible_to_camera = bool(camera_visibility.Get())
-    d.transform = np.array(world_matrix, dtype=np.float64)
-    return d
+    desc = descriptors.LightDesc()
+    desc.name = path
+    desc.kind = kind
+    for field, (name, value_kind) in COMMON_INPUTS.items():
+        value = light_input(prim, name, time)
+        if value is not None:
+            setattr(desc, field, converted(value, value_kind))
+    for field, name in SHAPE_INPUTS[kind].items():
+        value = light_input(prim, name, time)
+        if value is not None:
+            setattr(desc, field, float(value))
+    desc.texture_file = light_texture(prim, kind, time, warn)
+    desc.visible_to_camera = visible_to_camera(prim, time)
+    desc.transform = np.array(world_matrix, dtype=np.float64)
+    warn_unsupported_features(prim, time, warn)
+    return desc

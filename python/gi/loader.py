@@ -1,176 +1,244 @@
-"""Loads a USD stage through the pxr Python API into a gi._core.Scene."""
+"""Loads a USD stage through the pxr Python API into a gi._core.Scene (or any object with the same
+methods): geometry, instancing, materials, lights, camera and render settings.
+
+Problems in the file never stop a load: they become warnings naming the file and the prim, and
+the offending part is left out. Only a file that cannot be opened raises SceneError."""
+import math
 import os
+import re
+from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
-from pxr import Sdf, Usd, UsdGeom, UsdRender, UsdShade
+from pxr import Gf, Usd, UsdGeom, UsdLux, UsdRender, UsdShade
 
-from . import _core
+from . import descriptors
 from .errors import SceneError
-from .geometry import implicit_triangles, mesh_triangles
-from .lights import LIGHT_KINDS, light_desc
-from .materials import material_desc
+from .geometry import IMPLICIT_TYPES, implicit_triangles, mesh_triangles
+from .lights import is_light, light_desc
+from .materials import MaterialLibrary
 
-IMPLICIT_TYPES = ("Cube", "Cylinder", "Cone", "Capsule", "Plane")
+DEFAULT_RESOLUTION = (512, 512)
+RENDERED_PURPOSES = (UsdGeom.Tokens.default_, UsdGeom.Tokens.render)
+POINT_INSTANCER_LIGHTS = "lights in point-instancer prototypes are not supported; ignored"
 
 
 @dataclass
 class LoadedScene:
     scene: object
-    resolution: tuple
-    camera_path: str
+    resolution: tuple                 # (width, height)
+    camera_path: str                  # '' when the camera was made up to frame the scene
     warnings: list = field(default_factory=list)
+    # meshes, triangles, spheres, lights, instances, materials, prototypes
     counts: dict = field(default_factory=dict)
+    light_kinds: dict = field(default_factory=dict)  # 'rect' -> how many, ...
+    textures: dict = field(default_factory=dict)     # texture asset path -> resolved file, None if missing
+    prims: int = 0                                   # prims on the stage
+
+
+def matrix(gf_matrix):
+    """Gf.Matrix4d -> the (4, 4) float64 row-vector array gi._core takes."""
+    return np.array(gf_matrix, dtype=np.float64)
+
+
+def pxr_error_message(error):
+    """The last line of a Tf error without its "Error in 'function' at line N in file F :" prefix."""
+    lines = [line.strip() for line in str(error).splitlines() if line.strip()]
+    last = lines[-1] if lines else str(error)
+    match = re.search(r" : '(.*)'$", last)
+    return match.group(1) if match else last
 
 
 def open_stage(path):
+    """The stage at `path`; SceneError naming the file if it is missing or not USD."""
+    path = str(path)
     if not os.path.exists(path):
         raise SceneError(f"{path}: no such file")
+    if os.path.isdir(path):
+        raise SceneError(f"{path}: is a directory, not a USD file")
+    if not Usd.Stage.IsSupportedFile(path):
+        raise SceneError(f"{path}: not a readable USD file (unknown file extension)")
     try:
-        stage = Usd.Stage.Open(str(path))
-    except Exception as error:  # pxr raises Tf.ErrorException with the parser's message
-        first = str(error).strip().splitlines()
-        raise SceneError(f"{path}: not a readable USD file ({first[-1] if first else error})") from None
+        stage = Usd.Stage.Open(path)
+    except Exception as error:  # Tf.ErrorException carrying the parser's message
+        raise SceneError(f"{path}: not a readable USD file ({pxr_error_message(error)})") from None
     if stage is None:
         raise SceneError(f"{path}: not a readable USD file")
     return stage
 
 
-def _matrix(m):
-    a = np.array(m, dtype=np.float64)
-    return a if np.isfinite(a).all() else a  # the renderer rejects non-finite transforms with a warning
+class StageLoader:
+    """One pass over a stage, adding what it finds to `scene`."""
 
-
-class _Loader:
-    def __init__(self, stage, scene, time, path):
-        self.stage, self.scene, self.time, self.path = stage, scene, time, path
+    def __init__(self, stage, scene, time, file):
+        self.stage, self.scene, self.time, self.file = stage, scene, time, file
         self.xforms = UsdGeom.XformCache(time)
         self.warnings = []
-        self.materials = {}          # material prim path -> id
-        self.display_colors = {}     # rgb tuple -> id
-        self.prototypes = {}         # prototype prim path -> id
-        self.counts = dict(meshes=0, triangles=0, spheres=0, lights=0, instances=0, materials=0,
-                           prototypes=0)
+        self.materials = MaterialLibrary(scene, time, self.warn)
+        self.prototypes = {}    # prototype root path -> prototype id
+        self.counts = Counter(meshes=0, triangles=0, spheres=0, lights=0, instances=0, prototypes=0)
+        self.light_kinds = Counter()
 
-    def warn(self, message):
-        self.warnings.append(f"{self.path}: {message}")
+    def warn(self, prim_path, message):
+        self.warnings.append(f"{self.file}: {prim_path}: {message}")
 
-    # -- materials ---------------------------------------------------------------------------
-    def material_for(self, prim):
-        material, _ = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()
-        if material:
-            key = str(material.GetPath())
-            if key not in self.materials:
-                desc = material_desc(material, self.warn)
-                self.materials[key] = self.scene.add_material(desc) if desc is not None else -1
-                self.counts["materials"] += desc is not None
-            return self.materials[key]
-        primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar("displayColor")
-        if primvar and primvar.HasValue():
-            colors = primvar.ComputeFlattened(self.time)
-            if colors is not None and len(colors):
-                rgb = tuple(float(c) for c in colors[0])
-                if rgb not in self.display_colors:
-                    desc = _core.MaterialDesc()
-                    desc.name = f"{prim.GetPath()} displayColor"
-                    desc.diffuse_color = rgb
-                    self.display_colors[rgb] = self.scene.add_material(desc)
-                return self.display_colors[rgb]
-        return -1
+    def world(self, prim):
+        return self.xforms.GetLocalToWorldTransform(prim)
 
-    # -- geometry ----------------------------------------------------------------------------
+    def is_rendered(self, prim):
+        """Visible (inherited visibility) and of the default or render purpose."""
+        imageable = UsdGeom.Imageable(prim)
+        if not imageable:
+            return True
+        if imageable.ComputeVisibility(self.time) == UsdGeom.Tokens.invisible:
+            return False
+        return imageable.ComputePurpose() in RENDERED_PURPOSES
+
+    # -- traversal -------------------------------------------------------------------------------
+    def load(self):
+        for error in self.stage.GetCompositionErrors():  # missing references, sublayers, ...
+            self.warn(getattr(error.rootSite, "path", "/"), str(error).strip())
+        prims = iter(Usd.PrimRange(self.stage.GetPseudoRoot()))
+        for prim in prims:
+            if not self.is_rendered(prim):
+                prims.PruneChildren()
+            elif prim.IsInstance():
+                self.add_instanceable(prim)
+                prims.PruneChildren()
+            elif prim.IsA(UsdGeom.PointInstancer):
+                self.add_point_instancer(prim)
+                prims.PruneChildren()
+            else:
+                self.add_prim(prim, matrix(self.world(prim)))
+
+    def add_prim(self, prim, transform):
+        """A gprim or a light; anything else is a container (or not renderable) and is passed over."""
+        if prim.IsA(UsdGeom.Gprim):
+            self.add_gprim(prim, transform)
+        elif is_light(prim):
+            self.add_light(prim, self.world(prim))
+
+    # -- geometry --------------------------------------------------------------------------------
     def add_gprim(self, prim, transform, prototype=-1):
         name = str(prim.GetPath())
-        material = self.material_for(prim)
+        if prim.HasAPI(UsdLux.MeshLightAPI):
+            self.warn(name, "mesh lights (MeshLightAPI) are not supported; rendered as plain geometry "
+                            "(an emissive UsdPreviewSurface emits)")
         if prim.IsA(UsdGeom.Sphere):
-            radius = UsdGeom.Sphere(prim).GetRadiusAttr().Get(self.time)
-            if self.scene.add_sphere(name, (0.0, 0.0, 0.0), float(radius), material, transform,
-                                     prototype) >= 0:
-                self.counts["spheres"] += 1
-            return
-        if prim.IsA(UsdGeom.Mesh):
-            tris = mesh_triangles(UsdGeom.Mesh(prim), self.time, self.warn)
-            double_sided = bool(UsdGeom.Mesh(prim).GetDoubleSidedAttr().Get(self.time))
-        elif prim.GetTypeName() in IMPLICIT_TYPES:
-            tris = implicit_triangles(prim, self.time, self.warn)
-            double_sided = True
+            self.add_sphere(prim, transform, prototype)
+        elif prim.IsA(UsdGeom.Mesh) or prim.GetTypeName() in IMPLICIT_TYPES:
+            self.add_triangles(prim, transform, prototype)
         else:
-            return
-        if tris is None:
-            return
-        if self.scene.add_mesh(name, tris.positions, tris.indices, tris.normals, tris.uvs, material,
-                               transform, double_sided, prototype) >= 0:
-            self.counts["meshes"] += 1
-            self.counts["triangles"] += len(tris.indices)
+            self.warn(name, f"{prim.GetTypeName()} geometry is not supported; ignored")
 
-    def add_prototype(self, root, key):
-        """Geometry under `root` once, in object space relative to root, as a prototype."""
+    def add_sphere(self, prim, transform, prototype):
+        material, _ = self.materials.bind(prim)
+        radius = float(UsdGeom.Sphere(prim).GetRadiusAttr().Get(self.time))
+        name = str(prim.GetPath())
+        if self.scene.add_sphere(name, (0.0, 0.0, 0.0), radius, material, transform, prototype) >= 0:
+            self.counts["spheres"] += 1
+
+    def add_triangles(self, prim, transform, prototype):
+        """A mesh, or a tessellated cube / cylinder / cone / capsule / plane."""
+        name = str(prim.GetPath())
+        material, uv_names = self.materials.bind(prim)
+        warn = lambda message: self.warn(name, message)  # noqa: E731  (binds the prim's name)
+        if prim.IsA(UsdGeom.Mesh):
+            if UsdShade.MaterialBindingAPI(prim).GetMaterialBindSubsets():
+                warn("per-face materials (GeomSubsets) are not supported; the mesh's own material is used")
+            triangles = mesh_triangles(UsdGeom.Mesh(prim), self.time, warn, uv_names)
+        else:
+            triangles = implicit_triangles(prim, self.time, warn)
+        if triangles is None:
+            return
+        double_sided = bool(UsdGeom.Gprim(prim).GetDoubleSidedAttr().Get(self.time))
+        mesh_id = self.scene.add_mesh(name, triangles.positions, triangles.indices, triangles.normals,
+                                      triangles.uvs, material, transform, double_sided, prototype)
+        if mesh_id >= 0:
+            self.counts["meshes"] += 1
+            self.counts["triangles"] += len(triangles.indices)
+
+    # -- instancing ------------------------------------------------------------------------------
+    def prototype_for(self, root, holds_lights_warning=""):
+        """The prototype holding `root`'s geometry (relative to root), added on first use only.
+        Lights inside are skipped, with `holds_lights_warning` if given."""
+        key = str(root.GetPath())
         if key in self.prototypes:
             return self.prototypes[key]
-        proto = self.scene.add_prototype(key)
-        self.prototypes[key] = proto
+        prototype = self.scene.add_prototype(key)
+        self.prototypes[key] = prototype
         self.counts["prototypes"] += 1
-        root_inverse = self.xforms.GetLocalToWorldTransform(root).GetInverse()
-        for prim in Usd.PrimRange(root, Usd.TraverseInstanceProxies()):
-            if not prim.IsA(UsdGeom.Gprim) or not self.visible(prim):
-                continue
-            local = self.xforms.GetLocalToWorldTransform(prim) * root_inverse
-            self.add_gprim(prim, _matrix(local), proto)
-        return proto
+        to_root = self.world(root).GetInverse()
+        # Instance proxies: instanceable prims nested in a prototype are flattened into it.
+        prims = iter(Usd.PrimRange(root, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+        for prim in prims:
+            if not self.is_rendered(prim):
+                prims.PruneChildren()
+            elif prim.IsA(UsdGeom.PointInstancer):
+                self.warn(prim.GetPath(), "point instancers inside prototypes are not supported; ignored")
+                prims.PruneChildren()
+            elif prim.IsA(UsdGeom.Gprim):
+                self.add_gprim(prim, matrix(self.world(prim) * to_root), prototype)
+            elif is_light(prim) and holds_lights_warning:
+                self.warn(prim.GetPath(), holds_lights_warning)
+        return prototype
+
+    def add_instance(self, prototype, transform, name):
+        if self.scene.add_instance(prototype, matrix(transform), name) >= 0:
+            self.counts["instances"] += 1
+
+    def add_instanceable(self, prim):
+        """An instanceable prim: its prototype's geometry once, then one instance of it here."""
+        self.add_instance(self.prototype_for(prim.GetPrototype()), self.world(prim), str(prim.GetPath()))
+        self.add_lights_inside(prim)
+
+    def add_lights_inside(self, instance):
+        """Lights are not instanced: add those inside an instanceable prim at their world place."""
+        prims = iter(Usd.PrimRange(instance, Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)))
+        for prim in prims:
+            if not self.is_rendered(prim):
+                prims.PruneChildren()
+            elif is_light(prim) and not prim.IsA(UsdGeom.Gprim):
+                self.add_light(prim, self.world(prim))
 
     def add_point_instancer(self, prim):
         instancer = UsdGeom.PointInstancer(prim)
-        targets = instancer.GetPrototypesRel().GetTargets()
-        protos = [self.add_prototype(self.stage.GetPrimAtPath(t), str(t)) for t in targets]
-        transforms = instancer.ComputeInstanceTransformsAtTime(self.time, self.time)
-        indices = instancer.GetProtoIndicesAttr().Get(self.time) or []
-        mask = instancer.ComputeMaskAtTime(self.time)
-        world = self.xforms.GetLocalToWorldTransform(prim)
-        for i, (index, local) in enumerate(zip(indices, transforms or [])):
-            if mask and not mask[i]:
+        path = str(prim.GetPath())
+        roots = [self.stage.GetPrimAtPath(target) for target in instancer.GetPrototypesRel().GetTargets()]
+        proto_indices = instancer.GetProtoIndicesAttr().Get(self.time) or []
+        # ExcludeProtoXform: pxr computes nothing at all if one protoIndex is bad, so the prototype
+        # roots' own transforms are applied below. IgnoreMask keeps instance i at index i.
+        local = instancer.ComputeInstanceTransformsAtTime(
+            self.time, self.time, UsdGeom.PointInstancer.ExcludeProtoXform, UsdGeom.PointInstancer.IgnoreMask)
+        if len(local) != len(proto_indices):
+            self.warn(path, f"{len(proto_indices)} protoIndices but {len(local)} instance transforms "
+                            f"(positions/orientations/scales disagree); instancer ignored")
+            return
+        shown = instancer.ComputeMaskAtTime(self.time) or [True] * len(proto_indices)  # invisible/inactive ids
+        instancer_world = self.world(prim)
+        for i, (index, transform) in enumerate(zip(proto_indices, local)):
+            if not shown[i]:
                 continue
-            if not 0 <= index < len(protos):
-                self.warn(f"point instancer {prim.GetPath()}: instance {i} names prototype {index} "
-                          f"of {len(protos)}; skipped")
+            if not 0 <= index < len(roots) or not roots[index]:
+                self.warn(path, f"instance {i} uses prototype {index}, which does not exist; skipped")
                 continue
-            if self.scene.add_instance(protos[index], _matrix(local * world), f"{prim.GetPath()}[{i}]") >= 0:
-                self.counts["instances"] += 1
+            root = roots[index]
+            root_local, _ = self.xforms.GetLocalTransformation(root)
+            prototype = self.prototype_for(root, POINT_INSTANCER_LIGHTS)
+            self.add_instance(prototype, root_local * transform * instancer_world, f"{path}[{i}]")
 
-    def add_instanceable(self, prim):
-        prototype = prim.GetPrototype()
-        proto = self.add_prototype(prototype, str(prototype.GetPath()))
-        world = self.xforms.GetLocalToWorldTransform(prim)
-        if self.scene.add_instance(proto, _matrix(world), str(prim.GetPath())) >= 0:
-            self.counts["instances"] += 1
-
-    def visible(self, prim):
-        imageable = UsdGeom.Imageable(prim)
-        if imageable.ComputeVisibility(self.time) == UsdGeom.Tokens.invisible:
-            return False
-        return imageable.ComputePurpose() in (UsdGeom.Tokens.default_, UsdGeom.Tokens.render)
-
-    def load(self):
-        it = iter(Usd.PrimRange(self.stage.GetPseudoRoot()))
-        for prim in it:
-            if prim.IsA(UsdGeom.Imageable) and not self.visible(prim):
-                it.PruneChildren()
-                continue
-            if prim.IsInstance():
-                self.add_instanceable(prim)
-                it.PruneChildren()
-            elif prim.IsA(UsdGeom.PointInstancer):
-                self.add_point_instancer(prim)
-                it.PruneChildren()
-            elif prim.GetTypeName() in LIGHT_KINDS:
-                desc = light_desc(prim, self.xforms.GetLocalToWorldTransform(prim), self.warn)
-                if desc is not None:
-                    self.scene.add_light(desc)
-                    self.counts["lights"] += 1
-            elif prim.IsA(UsdGeom.Gprim):
-                self.add_gprim(prim, _matrix(self.xforms.GetLocalToWorldTransform(prim)))
+    # -- lights ----------------------------------------------------------------------------------
+    def add_light(self, prim, world):
+        desc = light_desc(prim, world, self.time, self.warn)
+        if desc is not None and self.scene.add_light(desc) >= 0:
+            self.counts["lights"] += 1
+            self.light_kinds[desc.kind] += 1
 
 
-def _render_settings(stage):
+# -- camera and render settings ------------------------------------------------------------------
+
+def render_settings(stage):
+    """The stage's renderSettingsPrimPath prim, else the first RenderSettings prim, else None."""
     path = stage.GetMetadata("renderSettingsPrimPath")
     if path:
         prim = stage.GetPrimAtPath(path)
@@ -182,52 +250,95 @@ def _render_settings(stage):
     return None
 
 
-def camera_desc(prim, xforms, time):
-    cam = UsdGeom.Camera(prim)
-    d = _core.CameraDesc()
-    d.name = str(prim.GetPath())
-    d.projection = str(cam.GetProjectionAttr().Get(time))
-    d.focal_length = float(cam.GetFocalLengthAttr().Get(time))
-    d.horizontal_aperture = float(cam.GetHorizontalApertureAttr().Get(time))
-    d.vertical_aperture = float(cam.GetVerticalApertureAttr().Get(time))
-    d.horizontal_aperture_offset = float(cam.GetHorizontalApertureOffsetAttr().Get(time))
-    d.vertical_aperture_offset = float(cam.GetVerticalApertureOffsetAttr().Get(time))
-    d.f_stop = float(cam.GetFStopAttr().Get(time))
-    d.focus_distance = float(cam.GetFocusDistanceAttr().Get(time))
-    near, far = cam.GetClippingRangeAttr().Get(time)
-    d.clipping_range = (float(near), float(far))
-    d.transform = np.array(xforms.GetLocalToWorldTransform(prim), dtype=np.float64)
-    return d
+def settings_resolution(settings, time):
+    if settings is None:
+        return DEFAULT_RESOLUTION
+    resolution = settings.GetResolutionAttr().Get(time)
+    return (int(resolution[0]), int(resolution[1])) if resolution is not None else DEFAULT_RESOLUTION
 
 
-def load_stage(path, scene=None, camera=None, time=Usd.TimeCode.Default()):
-    """Loads `path` into `scene` (a new gi._core.Scene if None). `camera` is a prim path that
-    overrides the render settings' camera. Raises SceneError naming the file."""
-    stage = open_stage(str(path))
-    scene = scene if scene is not None else _core.Scene()
-    loader = _Loader(stage, scene, time, str(path))
+def camera_prim(stage, settings, requested, file):
+    """The `requested` camera path, else the render settings' camera, else the first camera, else None."""
+    if requested:
+        prim = stage.GetPrimAtPath(requested) if requested.startswith("/") else None
+        if not prim or not prim.IsA(UsdGeom.Camera):
+            raise SceneError(f"{file}: {requested} is not a camera prim")
+        return prim
+    if settings is not None:
+        for target in settings.GetCameraRel().GetForwardedTargets():
+            prim = stage.GetPrimAtPath(target)
+            if prim and prim.IsA(UsdGeom.Camera):
+                return prim
+    return next((prim for prim in stage.Traverse() if prim.IsA(UsdGeom.Camera)), None)
+
+
+def camera_desc(prim, world, time):
+    camera = UsdGeom.Camera(prim)
+    desc = descriptors.CameraDesc()
+    desc.name = str(prim.GetPath())
+    desc.projection = str(camera.GetProjectionAttr().Get(time))
+    desc.focal_length = float(camera.GetFocalLengthAttr().Get(time))
+    desc.horizontal_aperture = float(camera.GetHorizontalApertureAttr().Get(time))
+    desc.vertical_aperture = float(camera.GetVerticalApertureAttr().Get(time))
+    desc.horizontal_aperture_offset = float(camera.GetHorizontalApertureOffsetAttr().Get(time))
+    desc.vertical_aperture_offset = float(camera.GetVerticalApertureOffsetAttr().Get(time))
+    desc.f_stop = float(camera.GetFStopAttr().Get(time))
+    desc.focus_distance = float(camera.GetFocusDistanceAttr().Get(time))
+    near, far = camera.GetClippingRangeAttr().Get(time)
+    desc.clipping_range = (float(near), float(far))
+    desc.transform = matrix(world)
+    return desc
+
+
+def framing_camera(stage, time, resolution):
+    """A camera on +Z looking down -Z at the whole scene's bounding box."""
+    cache = UsdGeom.BBoxCache(time, list(RENDERED_PURPOSES), useExtentsHint=True)
+    box = cache.ComputeWorldBound(stage.GetPseudoRoot()).ComputeAlignedRange()
+    center = box.GetMidpoint() if not box.IsEmpty() else Gf.Vec3d(0, 0, 0)
+    radius = max(box.GetSize().GetLength() / 2, 1e-3) if not box.IsEmpty() else 1.0
+    desc = descriptors.CameraDesc()
+    desc.name = "framing camera"
+    desc.projection = "perspective"
+    desc.focal_length = 50.0
+    desc.horizontal_aperture = 36.0
+    desc.vertical_aperture = 36.0 * resolution[1] / resolution[0]
+    half_fov = math.atan(min(desc.horizontal_aperture, desc.vertical_aperture) / 2 / desc.focal_length)
+    distance = radius / math.sin(half_fov)
+    desc.clipping_range = (max(distance - radius, 1e-3 * radius) / 2, (distance + radius) * 2)
+    desc.transform = matrix(Gf.Matrix4d().SetTranslate(center + Gf.Vec3d(0, 0, distance)))
+    return desc
+
+
+def as_time_code(time):
+    if time is None:
+        return Usd.TimeCode.Default()
+    return time if isinstance(time, Usd.TimeCode) else Usd.TimeCode(float(time))
+
+
+def load_stage(path, scene=None, camera=None, time=None) -> LoadedScene:
+    """Loads the USD file `path` into `scene` (a new gi._core.Scene if None).
+
+    camera: a camera prim path overriding the render settings' camera.
+    time: a time code or frame number (default: the default time).
+    Raises SceneError naming the file when it is missing or not USD."""
+    file = str(path)
+    stage = open_stage(file)
+    scene = scene if scene is not None else descriptors.new_scene()
+    time = as_time_code(time)
+    loader = StageLoader(stage, scene, time, file)
     loader.load()
 
-    settings = _render_settings(stage)
-    resolution = (512, 512)
-    camera_prim = None
-    if settings is not None:
-        res = settings.GetResolutionAttr().Get(time)
-        if res is not None:
-            resolution = (int(res[0]), int(res[1]))
-        targets = settings.GetCameraRel().GetTargets()
-        if targets:
-            camera_prim = stage.GetPrimAtPath(targets[0])
-    if camera is not None:
-        camera_prim = stage.GetPrimAtPath(camera)
-        if not camera_prim or not camera_prim.IsA(UsdGeom.Camera):
-            raise SceneError(f"{path}: {camera} is not a camera prim")
-    if camera_prim is None:
-        camera_prim = next((p for p in stage.Traverse() if p.IsA(UsdGeom.Camera)), None)
-    camera_path = ""
-    if camera_prim is not None and camera_prim.IsA(UsdGeom.Camera):
-        scene.set_camera(camera_desc(camera_prim, loader.xforms, time))
-        camera_path = str(camera_prim.GetPath())
+    settings = render_settings(stage)
+    resolution = settings_resolution(settings, time)
+    prim = camera_prim(stage, settings, camera, file)
+    if prim is not None:
+        scene.set_camera(camera_desc(prim, loader.world(prim), time))
+        camera_path = str(prim.GetPath())
     else:
-        loader.warn("no camera in the stage; using a view of the whole scene from +Z")
-    return LoadedScene(scene, resolution, camera_path, loader.warnings, loader.counts)
+        loader.warn("/", "no camera in the stage; using one on +Z that frames the whole scene")
+        scene.set_camera(framing_camera(stage, time, resolution))
+        camera_path = ""
+
+    counts = dict(loader.counts, materials=loader.materials.added)
+    return LoadedScene(scene, resolution, camera_path, loader.warnings, counts, dict(loader.light_kinds),
+                       dict(loader.materials.textures), sum(1 for _ in stage.TraverseAll()))

@@ -1,117 +1,264 @@
-"""UsdShade materials (UsdPreviewSurface networks) to gi MaterialDesc."""
+"""UsdShade materials (UsdPreviewSurface networks) to MaterialDesc, each added to the scene once.
+
+`warn(prim_path, message)` reports a problem; the caller adds the file name."""
 import os
+from dataclasses import dataclass
 
-from pxr import Sdf, UsdShade
+from pxr import Sdf, UsdGeom, UsdShade
 
-from . import _core
+from . import descriptors
 
-# UsdPreviewSurface input -> (MaterialDesc attribute, texture attribute or None, kind)
-_INPUTS = {
-    "diffuseColor": ("diffuse_color", "diffuse_color_texture", "color"),
-    "emissiveColor": ("emissive_color", "emissive_color_texture", "color"),
-    "specularColor": ("specular_color", "specular_color_texture", "color"),
-    "metallic": ("metallic", "metallic_texture", "float"),
-    "roughness": ("roughness", "roughness_texture", "float"),
-    "opacity": ("opacity", "opacity_texture", "float"),
-    "normal": (None, "normal_texture", "normal"),
-    "clearcoat": ("clearcoat", None, "float"),
-    "clearcoatRoughness": ("clearcoat_roughness", None, "float"),
-    "opacityThreshold": ("opacity_threshold", None, "float"),
-    "ior": ("ior", None, "float"),
-    "useSpecularWorkflow": ("use_specular_workflow", None, "bool"),
+# UsdPreviewSurface input -> (MaterialDesc field, its TextureDesc field, kind, the spec's default).
+# A None field means the renderer has no use for it (a constant there is ignored silently).
+PREVIEW_SURFACE_INPUTS = {
+    "diffuseColor": ("diffuse_color", "diffuse_color_texture", "color", (0.18, 0.18, 0.18)),
+    "emissiveColor": ("emissive_color", "emissive_color_texture", "color", (0.0, 0.0, 0.0)),
+    "useSpecularWorkflow": ("use_specular_workflow", None, "bool", False),
+    "specularColor": ("specular_color", "specular_color_texture", "color", (0.0, 0.0, 0.0)),
+    "metallic": ("metallic", "metallic_texture", "float", 0.0),
+    "roughness": ("roughness", "roughness_texture", "float", 0.5),
+    "clearcoat": ("clearcoat", None, "float", 0.0),
+    "clearcoatRoughness": ("clearcoat_roughness", None, "float", 0.01),
+    "opacity": ("opacity", "opacity_texture", "float", 1.0),
+    "opacityMode": ("opacity_mode", None, "token", "transparent"),
+    "opacityThreshold": ("opacity_threshold", None, "float", 0.0),
+    "ior": ("ior", None, "float", 1.5),
+    "normal": (None, "normal_texture", "normal", (0.0, 0.0, 1.0)),
 }
 
-
-def _value(shader, name, default=None):
-    inp = shader.GetInput(name)
-    if not inp:
-        return default
-    v = inp.Get()
-    return default if v is None else v
-
-
-def _connected_shader(inp):
-    """(shader, output name) that an input is connected to, or (None, None)."""
-    if not inp or not inp.HasConnectedSource():
-        return None, None
-    source, output, _ = inp.GetConnectedSource()
-    return UsdShade.Shader(source.GetPrim()), output
+# UsdUVTexture inputs read into TextureDesc, with the spec's defaults.
+TEXTURE_INPUTS = {"wrapS": ("wrap_s", "useMetadata"), "wrapT": ("wrap_t", "useMetadata"),
+                  "scale": ("scale", (1.0, 1.0, 1.0, 1.0)), "bias": ("bias", (0.0, 0.0, 0.0, 0.0)),
+                  "fallback": ("fallback", (0.0, 0.0, 0.0, 1.0)),
+                  "sourceColorSpace": ("source_color_space", "auto")}
+CHANNELS = {"r": 0, "g": 1, "b": 2, "a": 3}
 
 
-def _texture_desc(texture, output, material_path, warn):
-    desc = _core.TextureDesc()
-    file_input = texture.GetInput("file")
-    asset = file_input.Get() if file_input else None
-    path = ""
-    if isinstance(asset, Sdf.AssetPath):
-        path = asset.resolvedPath or ""
-        if not path and asset.path:
-            warn(f"material {material_path}: texture {asset.path} of {texture.GetPath()} does not "
-                 f"resolve to a file; using the constant value")
-            return None
-    if not path:
-        return None
-    if not os.path.isfile(path):
-        warn(f"material {material_path}: texture file {path} does not exist; using the constant value")
-        return None
-    desc.file = path
-    desc.wrap_s = str(_value(texture, "wrapS", "useMetadata"))
-    desc.wrap_t = str(_value(texture, "wrapT", "useMetadata"))
-    desc.scale = tuple(_value(texture, "scale", (1, 1, 1, 1)))
-    desc.bias = tuple(_value(texture, "bias", (0, 0, 0, 0)))
-    desc.fallback = tuple(_value(texture, "fallback", (0, 0, 0, 1)))
-    desc.source_color_space = str(_value(texture, "sourceColorSpace", "auto"))
-    desc.channel = output if output in ("r", "g", "b", "a") else "rgb"
-    st_shader, _ = _connected_shader(texture.GetInput("st"))
-    if st_shader and st_shader.GetIdAttr().Get() == "UsdTransform2d":
-        desc.st_rotation = float(_value(st_shader, "rotation", 0.0))
-        desc.st_scale = tuple(_value(st_shader, "scale", (1, 1)))
-        desc.st_translation = tuple(_value(st_shader, "translation", (0, 0)))
-    return desc
+# -- reading shader networks ---------------------------------------------------------------------
 
+@dataclass
+class Source:
+    """What drives a shader input: a constant (value, None when nothing is authored) or a shader's output."""
+    value: object = None
+    shader: UsdShade.Shader = None
+    output: str = ""
+
+
+def input_source(shader, name):
+    """Follows connections (through node graphs and material interface inputs) to what drives `name`."""
+    shader_input = shader.GetInput(name)
+    if not shader_input:
+        return Source()
+    attributes = shader_input.GetValueProducingAttributes(shaderOutputsOnly=False)
+    if not attributes:
+        return Source()
+    attribute = attributes[0]
+    if UsdShade.Output.IsOutput(attribute):
+        return Source(shader=UsdShade.Shader(attribute.GetPrim()),
+                      output=UsdShade.Output(attribute).GetBaseName())
+    return Source(value=attribute.Get())
+
+
+def input_value(shader, name, default):
+    value = input_source(shader, name).value
+    return default if value is None else value
+
+
+def shader_id(shader):
+    return shader.GetShaderId() or ""
+
+
+def converted(value, kind):
+    if kind == "color":
+        return tuple(float(c) for c in value)[:3]
+    if kind == "bool":
+        return bool(value)
+    if kind == "token":
+        return str(value)
+    return float(value)
+
+
+def channel_of(fallback, channel, kind):
+    """The part of a 4-component texture value that the connected output delivers."""
+    if kind == "color":
+        return tuple(fallback[:3]) if channel == "rgb" else (fallback[CHANNELS[channel]],) * 3
+    return fallback[CHANNELS.get(channel, 0)]
+
+
+# -- textures ------------------------------------------------------------------------------------
+
+@dataclass
+class TextureRead:
+    desc: object = None           # None: the file is missing; use the constant
+    fallback: tuple = None        # the UsdUVTexture's authored fallback, if any
+    uv_primvar: str = ""          # UsdPrimvarReader_float2's varname
+
+
+def texture_file(texture, material_path, warn, seen):
+    """Resolved absolute path of a UsdUVTexture's file, or '' (with a warning naming the
+    material and the file) when it cannot be found."""
+    asset = input_value(texture, "file", None)
+    if not isinstance(asset, Sdf.AssetPath) or not asset.path:
+        warn(material_path, f"texture {texture.GetPath()} has no file; using the constant value")
+        return ""
+    resolved = asset.resolvedPath
+    exists = bool(resolved) and os.path.isfile(resolved)
+    seen[asset.path] = resolved if exists else None
+    if not exists:
+        warn(material_path, f"texture file '{asset.path}' (read by {texture.GetPath()}) was not found; "
+                            f"using the constant value")
+        return ""
+    return resolved
+
+
+def read_st_network(texture, desc):
+    """UsdTransform2d (optional) and UsdPrimvarReader_float2 feeding a texture's st: fills the
+    transform into `desc` and returns the primvar name."""
+    source = input_source(texture, "st")
+    if source.shader is not None and shader_id(source.shader) == "UsdTransform2d":
+        transform = source.shader
+        desc.st_rotation = float(input_value(transform, "rotation", 0.0))
+        desc.st_scale = tuple(float(v) for v in input_value(transform, "scale", (1.0, 1.0)))
+        desc.st_translation = tuple(float(v) for v in input_value(transform, "translation", (0.0, 0.0)))
+        source = input_source(transform, "in")
+    if source.shader is not None and shader_id(source.shader).startswith("UsdPrimvarReader"):
+        return str(input_value(source.shader, "varname", ""))
+    return ""
+
+
+def read_texture(texture, output, material_path, warn, seen) -> TextureRead:
+    authored_fallback = input_source(texture, "fallback").value
+    read = TextureRead(fallback=None if authored_fallback is None else tuple(authored_fallback))
+    file = texture_file(texture, material_path, warn, seen)
+    if not file:
+        return read
+    desc = descriptors.TextureDesc()
+    desc.file = file
+    for name, (field, default) in TEXTURE_INPUTS.items():
+        value = input_value(texture, name, default)
+        setattr(desc, field, str(value) if isinstance(default, str) else tuple(float(v) for v in value))
+    desc.channel = output if output in CHANNELS else "rgb"
+    read.uv_primvar = read_st_network(texture, desc)
+    read.desc = desc
+    return read
+
+
+# -- UsdPreviewSurface ---------------------------------------------------------------------------
 
 def surface_shader(material):
-    output = material.GetSurfaceOutput()
-    if not output:
+    """The UsdPreviewSurface driving a material's universal surface output, or None."""
+    shader, _, _ = material.ComputeSurfaceSource()
+    if not shader or shader_id(shader) != "UsdPreviewSurface":
         return None
-    source = output.GetConnectedSource()
-    if not source or not source[0]:
-        return None
-    return UsdShade.Shader(source[0].GetPrim())
+    return shader
 
 
-def material_desc(material: UsdShade.Material, warn):
-    """A MaterialDesc for a bound material, or None if it has no UsdPreviewSurface."""
+def read_input(shader, name, spec, desc, material_path, warn, textures):
+    """Sets one UsdPreviewSurface input on `desc`; returns the uv primvar its texture reads, if any."""
+    field, texture_field, kind, default = spec
+    source = input_source(shader, name)
+    if source.shader is None:
+        if field is not None:
+            setattr(desc, field, converted(default if source.value is None else source.value, kind))
+        return ""
+    if shader_id(source.shader) != "UsdUVTexture" or texture_field is None:
+        warn(material_path, f"inputs:{name} is driven by {source.shader.GetPath()} "
+                            f"({shader_id(source.shader) or 'no id'}), which is not supported there; "
+                            f"using the default")
+        if field is not None:
+            setattr(desc, field, converted(default, kind))
+        return ""
+    texture = read_texture(source.shader, source.output, material_path, warn, textures)
+    if texture.desc is not None:
+        setattr(desc, texture_field, texture.desc)
+    if field is not None:
+        # The constant stands in when the file is missing: the texture's own fallback if authored
+        # (that is what UsdUVTexture says to use), else the input's value, else the spec default.
+        constant = input_fallback(shader, name, default, texture, source.output, kind)
+        setattr(desc, field, converted(constant, kind))
+    return texture.uv_primvar
+
+
+def input_fallback(shader, name, default, texture, output, kind):
+    if texture.fallback is not None:
+        return channel_of(texture.fallback, output if output in CHANNELS else "rgb", kind)
+    own_value = shader.GetInput(name).GetAttr().Get()
+    return default if own_value is None else own_value
+
+
+def once(warn):
+    """`warn` that drops repeats (one missing file feeding several inputs is one problem)."""
+    said = set()
+
+    def warn_once(path, message):
+        if (path, message) not in said:
+            said.add((path, message))
+            warn(path, message)
+    return warn_once
+
+
+def material_desc(material, warn, textures):
+    """(MaterialDesc, uv primvar names its textures read) for a bound material, or (None, ())
+    if it has no UsdPreviewSurface."""
     path = str(material.GetPath())
+    warn = once(warn)
     shader = surface_shader(material)
-    if shader is None or shader.GetIdAttr().Get() != "UsdPreviewSurface":
-        warn(f"material {path}: no UsdPreviewSurface on its surface output; using the default")
-        return None
-    desc = _core.MaterialDesc()
+    if shader is None:
+        warn(path, "no UsdPreviewSurface drives its surface output; using the default material")
+        return None, ()
+    desc = descriptors.MaterialDesc()
     desc.name = path
-    for name, (attr, texture_attr, kind) in _INPUTS.items():
-        inp = shader.GetInput(name)
-        if not inp:
-            continue
-        source, output = _connected_shader(inp)
-        if source is not None and texture_attr and source.GetIdAttr().Get() == "UsdUVTexture":
-            tex = _texture_desc(source, output, path, warn)
-            if tex is not None:
-                setattr(desc, texture_attr, tex)
-            if attr:  # the texture's fallback doubles as the constant when the file is missing
-                fallback = _value(source, "fallback", None)
-                if fallback is not None and tex is None:
-                    value = tuple(fallback)[:3] if kind == "color" else float(tuple(fallback)[0])
-                    setattr(desc, attr, value)
-            continue
-        value = inp.Get()
-        if value is None or attr is None:
-            continue
-        if kind == "color":
-            setattr(desc, attr, tuple(float(x) for x in value))
-        elif kind == "bool":
-            setattr(desc, attr, bool(value))
-        else:
-            setattr(desc, attr, float(value))
-    desc.opacity_mode = str(_value(shader, "opacityMode", "transparent"))
-    return desc
+    uv_names = []
+    for name, spec in PREVIEW_SURFACE_INPUTS.items():
+        uv_name = read_input(shader, name, spec, desc, path, warn, textures)
+        if uv_name and uv_name not in uv_names:
+            uv_names.append(uv_name)
+    if input_source(shader, "displacement").shader is not None:
+        warn(path, "displacement is not supported; ignored")
+    return desc, tuple(uv_names)
+
+
+# -- binding -------------------------------------------------------------------------------------
+
+class MaterialLibrary:
+    """Finds the material bound to each gprim and adds each material to the scene once."""
+
+    def __init__(self, scene, time, warn):
+        self.scene, self.time, self.warn = scene, time, warn
+        self.ids = {}           # material prim path (or displayColor) -> (id, uv primvar names)
+        self.textures = {}      # texture asset path as authored -> resolved file, None if missing
+        self.added = 0
+
+    def bind(self, prim):
+        """(material id or -1, uv primvar names) for a gprim."""
+        material, _ = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial(UsdShade.Tokens.full)
+        if material:
+            key = str(material.GetPath())
+            if key not in self.ids:
+                desc, uv_names = material_desc(material, self.warn, self.textures)
+                self.ids[key] = (self.add(desc), uv_names) if desc is not None else (-1, ())
+            if self.ids[key][0] >= 0:
+                return self.ids[key]
+        return self.display_color_material(prim), ()
+
+    def display_color_material(self, prim):
+        """A diffuse material of the prim's displayColor (the first value), shared by equal colors."""
+        primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar("displayColor")
+        if not primvar or not primvar.HasValue():
+            return -1
+        colors = primvar.ComputeFlattened(self.time)
+        if colors is None or len(colors) == 0:
+            return -1
+        rgb = tuple(float(c) for c in colors[0])
+        key = ("displayColor", rgb)
+        if key not in self.ids:
+            desc = descriptors.MaterialDesc()
+            desc.name = f"{prim.GetPath()}.primvars:displayColor"
+            desc.diffuse_color = rgb
+            self.ids[key] = (self.add(desc), ())
+        return self.ids[key][0]
+
+    def add(self, desc):
+        material_id = self.scene.add_material(desc)
+        self.added += material_id >= 0
+        return material_id

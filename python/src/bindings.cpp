@@ -114,7 +114,7 @@ void bindDescriptors(nb::module_& m) {
         .def_rw("angle", &LightDesc::angle)
         .def_rw("texture_file", &LightDesc::textureFile)
         .def_rw("visible_to_camera", &LightDesc::visibleToCamera)
-        .def_prop_rw("transform", [](const LightDesc& l) { return fromMat4(l.transform); },
+        .def_prop_rw("transform", [](const LightDesc& l) { return nb::cast(fromMat4(l.transform), nb::rv_policy::move); },
                      [](LightDesc& l, Matrix v) { l.transform = toMat4(v); });
 
     nb::class_<CameraDesc>(m, "CameraDesc")
@@ -130,7 +130,7 @@ void bindDescriptors(nb::module_& m) {
         .def_rw("focus_distance", &CameraDesc::focusDistance)
         .def_prop_rw("clipping_range", [](const CameraDesc& c) { return Float2{c.clipNear, c.clipFar}; },
                      [](CameraDesc& c, Float2 v) { std::tie(c.clipNear, c.clipFar) = v; })
-        .def_prop_rw("transform", [](const CameraDesc& c) { return fromMat4(c.transform); },
+        .def_prop_rw("transform", [](const CameraDesc& c) { return nb::cast(fromMat4(c.transform), nb::rv_policy::move); },
                      [](CameraDesc& c, Matrix v) { c.transform = toMat4(v); });
 }
 

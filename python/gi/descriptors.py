@@ -1,0 +1,145 @@
+"""The descriptor classes the loader fills: gi._core's when the core is built, otherwise pure-Python
+stand-ins with the same fields and defaults (so the loader, `gi inspect` and the tests work
+without the compiled renderer)."""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+def _identity():
+    return np.eye(4, dtype=np.float64)
+
+
+@dataclass
+class _TextureDesc:
+    file: str = ""
+    wrap_s: str = "useMetadata"
+    wrap_t: str = "useMetadata"
+    scale: tuple = (1.0, 1.0, 1.0, 1.0)
+    bias: tuple = (0.0, 0.0, 0.0, 0.0)
+    fallback: tuple = (0.0, 0.0, 0.0, 1.0)
+    channel: str = "rgb"
+    source_color_space: str = "auto"
+    st_rotation: float = 0.0
+    st_scale: tuple = (1.0, 1.0)
+    st_translation: tuple = (0.0, 0.0)
+
+
+@dataclass
+class _MaterialDesc:
+    name: str = "default"
+    diffuse_color: tuple = (0.18, 0.18, 0.18)
+    emissive_color: tuple = (0.0, 0.0, 0.0)
+    use_specular_workflow: bool = False
+    specular_color: tuple = (0.0, 0.0, 0.0)
+    metallic: float = 0.0
+    roughness: float = 0.5
+    clearcoat: float = 0.0
+    clearcoat_roughness: float = 0.01
+    opacity: float = 1.0
+    opacity_mode: str = "transparent"
+    opacity_threshold: float = 0.0
+    ior: float = 1.5
+    diffuse_color_texture: _TextureDesc = field(default_factory=_TextureDesc)
+    emissive_color_texture: _TextureDesc = field(default_factory=_TextureDesc)
+    specular_color_texture: _TextureDesc = field(default_factory=_TextureDesc)
+    metallic_texture: _TextureDesc = field(default_factory=_TextureDesc)
+    roughness_texture: _TextureDesc = field(default_factory=_TextureDesc)
+    opacity_texture: _TextureDesc = field(default_factory=_TextureDesc)
+    normal_texture: _TextureDesc = field(default_factory=_TextureDesc)
+
+
+@dataclass
+class _LightDesc:
+    name: str = ""
+    kind: str = "rect"
+    color: tuple = (1.0, 1.0, 1.0)
+    intensity: float = 1.0
+    exposure: float = 0.0
+    normalize: bool = False
+    width: float = 1.0
+    height: float = 1.0
+    radius: float = 0.5
+    length: float = 1.0
+    angle: float = 0.53
+    texture_file: str = ""
+    transform: np.ndarray = field(default_factory=_identity)
+    visible_to_camera: bool = True
+
+
+@dataclass
+class _CameraDesc:
+    name: str = ""
+    projection: str = "perspective"
+    focal_length: float = 50.0
+    horizontal_aperture: float = 20.955
+    vertical_aperture: float = 15.2908
+    horizontal_aperture_offset: float = 0.0
+    vertical_aperture_offset: float = 0.0
+    f_stop: float = 0.0
+    focus_distance: float = 0.0
+    clipping_range: tuple = (1e-4, 1e30)
+    transform: np.ndarray = field(default_factory=_identity)
+
+
+class CountingScene:
+    """Accepts what a gi._core.Scene accepts and only hands out ids: lets `gi inspect` (and anything
+    that just needs the loader's counts and warnings) run without the compiled core."""
+
+    def __init__(self):
+        self._next_id = {}
+
+    def _new_id(self, kind):
+        self._next_id[kind] = self._next_id.get(kind, -1) + 1
+        return self._next_id[kind]
+
+    def add_material(self, material):
+        return self._new_id("material")
+
+    def add_prototype(self, name):
+        return self._new_id("prototype")
+
+    def add_mesh(self, name, positions, indices, *args, **kwargs):
+        return self._new_id("mesh")
+
+    def add_sphere(self, name, center, radius, *args, **kwargs):
+        return self._new_id("sphere")
+
+    def add_instance(self, prototype, transform, name=""):
+        return self._new_id("instance")
+
+    def add_light(self, light):
+        return self._new_id("light")
+
+    def set_camera(self, camera):
+        pass
+
+    def commit(self):
+        pass
+
+    def warnings(self):
+        return []
+
+    def stats(self):
+        return {}
+
+
+PYTHON_DESCRIPTORS = {"TextureDesc": _TextureDesc, "MaterialDesc": _MaterialDesc, "LightDesc": _LightDesc,
+                      "CameraDesc": _CameraDesc}
+
+# The loader creates descriptors as descriptors.<Name>() so that tests can swap these names.
+try:
+    from ._core import CameraDesc, LightDesc, MaterialDesc, TextureDesc  # noqa: F401
+    HAVE_CORE = True
+except ImportError:
+    TextureDesc, MaterialDesc, LightDesc, CameraDesc = _TextureDesc, _MaterialDesc, _LightDesc, _CameraDesc
+    HAVE_CORE = False
+
+
+def new_scene():
+    """A gi._core.Scene; ImportError (saying so) when the core is not built."""
+    if not HAVE_CORE:
+        raise ImportError("gi._core (the compiled renderer) is not built; run scripts/build.sh, "
+                          "or pass a scene object to load_stage")
+    from ._core import Scene
+    return Scene()
