@@ -111,7 +111,8 @@ class Scene:
         """Builds the BVH and lights (render() does it if needed). The scene is read-only afterwards."""
     def warnings(self) -> list[str]:
         """Every warning issued while building and committing, each naming its prim."""
-    def stats(self) -> dict: ...   # triangles, spheres, instances, lights, build_seconds, ...
+    def stats(self) -> dict: ...   # triangles, spheres, instances, prototypes, lights, emissive_triangles,
+                                   # textures, texture_bytes, build_seconds, committed, specular_surfaces
 
 class RenderSettings:
     width: int
@@ -122,6 +123,7 @@ class RenderSettings:
     seed: int
     threads: int                   # 0 = all
     time_limit: float              # seconds, 0 = none
+    filter: str                    # pixel reconstruction filter: 'box' (default) | 'gaussian'
     def __init__(self) -> None: ...
 
 class RenderResult:
@@ -130,7 +132,9 @@ class RenderResult:
     normal: npt.NDArray[np.float32]    # (H, W, 3) world-space shading normal
     albedo: npt.NDArray[np.float32]    # (H, W, 3)
     spp: int                           # samples actually taken
-    stats: dict                        # seconds, preprocess_seconds, rays, rays_per_second, samples_per_second, peak_memory_bytes, + integrator stats
+    stats: dict                        # seconds, preprocess_seconds, render_seconds, rays, rays_per_second,
+                                       # camera_samples, samples_per_second, non_finite_samples,
+                                       # peak_memory_bytes, spp, + the integrator's own statistics
 
 def integrators() -> list[dict]:
     """[{'name', 'description', 'params': [{'name', 'type' ('int'|'float'|'bool'), 'default', 'min', 'max', 'description'}]}]"""
@@ -141,10 +145,10 @@ def render(scene: Scene, settings: RenderSettings,
     50 ms and once with 1.0 at the end. Releases the GIL while rendering. KeyboardInterrupt cancels.
     Raises ValueError for an unknown integrator or resolution."""
 
-def write_exr(path: str, result: RenderResult, metadata: dict = {}) -> None:
+def write_exr(path: str, result: RenderResult, metadata: dict[str, str] = {}) -> None:
     """Linear half/float EXR with R,G,B plus depth (Z), normal (N.x..), albedo (albedo.r..) layers; metadata as string attributes."""
 
-def write_rgb_exr(path: str, color: npt.NDArray[np.float32], metadata: dict = {}) -> None:
+def write_rgb_exr(path: str, color: npt.NDArray[np.float32], metadata: dict[str, str] = {}) -> None:
     """A plain linear R,G,B EXR from an (H, W, 3) array."""
 
 def write_png(path: str, color: npt.NDArray[np.float32], display: str = "", view: str = "",
