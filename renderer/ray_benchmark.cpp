@@ -6,6 +6,7 @@
 
 #include <chrono>
 
+#include "embree_ray.h"
 #include "sampler.h"
 #include "sampling.h"
 
@@ -32,17 +33,7 @@ RayBenchmarkResult castIncoherentRays(const Scene& scene, uint64_t rays, uint32_
                 Vec2 u = sampler.get2D();
                 Vec3 o = lo + extent * Vec3(u.x, u.y, sampler.get1D());
                 Vec3 d = sampleUniformSphere(sampler.get2D());
-                RTCRayHit rh;
-                rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
-                rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
-                rh.ray.tnear = 0;
-                rh.ray.tfar = std::numeric_limits<float>::max();
-                rh.ray.time = 0;
-                rh.ray.mask = 0xffffffffu;
-                rh.ray.id = 0;
-                rh.ray.flags = 0;
-                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                RTCRayHit rh = toEmbreeRayHit(o, d, 0, kInf);
                 rtcIntersect1(rtc, &context, &rh);
                 h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
             }

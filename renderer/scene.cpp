@@ -1,5 +1,7 @@
 #include "scene.h"
 
+#include "embree_ray.h"
+
 #include <chrono>
 #include <filesystem>
 #include <sstream>
@@ -442,17 +444,7 @@ Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) c
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-    RTCRayHit rh;
-    rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
-    rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = ray.tMin;
-    rh.ray.tfar = std::isfinite(ray.tMax) ? ray.tMax : std::numeric_limits<float>::max();
-    rh.ray.time = 0;
-    rh.ray.mask = 0xffffffffu;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = toEmbreeRayHit(ray.o, ray.d, ray.tMin, ray.tMax);
     rtcIntersect1(top_, &context, &rh);
     Intersection result;
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
@@ -481,15 +473,7 @@ bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RaySta
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-    RTCRay r;
-    r.org_x = origin.x, r.org_y = origin.y, r.org_z = origin.z;
-    r.dir_x = dir.x, r.dir_y = dir.y, r.dir_z = dir.z;
-    r.tnear = 0;
-    r.tfar = std::isfinite(distance) ? distance : std::numeric_limits<float>::max();
-    r.time = 0;
-    r.mask = 0xffffffffu;
-    r.id = 0;
-    r.flags = 0;
+    RTCRay r = toEmbreeRay(origin, dir, 0, distance);
     rtcOccluded1(top_, &context, &r);
     return r.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
