@@ -1,7 +1,9 @@
 // Every integrator with its parameters. The CLI's flags and Hydra's render settings are
 // generated from this list, so a parameter exists in one place only.
 #include "../integrator.h"
+#include "adaptive_irradiance_cache.h"
 #include "direct.h"
+#include "irradiance_cache_integrator.h"
 #include "path.h"
 
 namespace gi {
@@ -18,6 +20,30 @@ const ParamInfo kRayDepth = intParam("rayDepth", 5, 0, 1024, "maximum specular (
 const ParamInfo kRouletteDepth =
     intParam("rouletteDepth", 3, 0, 1024, "vertices before Russian roulette may end a path");
 const ParamInfo kLightSamples = intParam("lightSamples", 1, 1, 4096, "light samples per shading point");
+// Irradiance caching (thesis 3.3.1, 3.3.2). 108 paths as in the thesis's tables 4.1 and 4.5.
+const ParamInfo kRecordPaths =
+    intParam("paths", 108, 1, 65536, "hemisphere paths per irradiance record (M x N stratified cells)");
+const ParamInfo kAccuracy = ParamInfo{"accuracy", "float", 1, 0.01, 100,
+                                      "k of the Tabellion-Lamorlette error: higher is more accurate, more records"};
+const ParamInfo kMinSpacing = ParamInfo{"minSpacing", "float", 1.5, 0.1, 1000, "smallest record radius, in pixels"};
+const ParamInfo kMaxSpacing = ParamInfo{"maxSpacing", "float", 10, 0.1, 10000, "largest record radius, in pixels"};
+const ParamInfo kThreshold = ParamInfo{"threshold", "float", 0.02, 0, 1,
+                                       "adaptive refinement: relative luminance change that is discernible (2.38)"};
+const ParamInfo kRefinementRounds =
+    intParam("refinementRounds", 1000, 0, 100000, "adaptive refinement: most rounds of the refinement queue");
+
+IrradianceCacheSettings irradianceCacheSettings(const IntegratorInfo& info, const ParamSet& p) {
+    IrradianceCacheSettings s;
+    s.record.paths = int(paramValue(info, p, "paths"));
+    s.record.pathDepth = int(paramValue(info, p, "pathDepth"));
+    s.record.rayDepth = int(paramValue(info, p, "rayDepth"));
+    s.record.rouletteDepth = int(paramValue(info, p, "rouletteDepth"));
+    s.record.accuracy = float(paramValue(info, p, "accuracy"));
+    s.record.minSpacing = float(paramValue(info, p, "minSpacing"));
+    s.record.maxSpacing = float(paramValue(info, p, "maxSpacing"));
+    s.lightSamples = int(paramValue(info, p, "lightSamples"));
+    return s;
+}
 
 std::vector<IntegratorInfo> buildRegistry() {
     std::vector<IntegratorInfo> list;
@@ -36,6 +62,26 @@ std::vector<IntegratorInfo> buildRegistry() {
                                                   int(paramValue(info, p, "lightSamples")));
     };
     list.push_back(direct);
+    IntegratorInfo irradianceCache{
+        "irradianceCache", "ray tracing with indirect diffuse light from an irradiance cache (gradients, T&L error)",
+        {kRecordPaths, kPathDepth, kRayDepth, kRouletteDepth, kLightSamples, kAccuracy, kMinSpacing, kMaxSpacing},
+        nullptr};
+    irradianceCache.create = [info = irradianceCache](const ParamSet& p) -> std::unique_ptr<Integrator> {
+        return std::make_unique<IrradianceCacheIntegrator>(irradianceCacheSettings(info, p));
+    };
+    list.push_back(irradianceCache);
+    IntegratorInfo adaptive{"adaptiveIrradianceCache",
+                            "irradiance caching with the adaptive refinement of Krivanek et al. 2006 (parallel, bounded memory)",
+                            irradianceCache.params, nullptr};
+    adaptive.params.push_back(kThreshold);
+    adaptive.params.push_back(kRefinementRounds);
+    adaptive.create = [info = adaptive](const ParamSet& p) -> std::unique_ptr<Integrator> {
+        AdaptiveRefinementSettings refinement;
+        refinement.threshold = float(paramValue(info, p, "threshold"));
+        refinement.maxRounds = int(paramValue(info, p, "refinementRounds"));
+        return std::make_unique<AdaptiveIrradianceCacheIntegrator>(irradianceCacheSettings(info, p), refinement);
+    };
+    list.push_back(adaptive);
     return list;
 }
 

@@ -1,0 +1,120 @@
+#include "irradiance_cache_integrator.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+
+#include "specular_chain.h"
+
+namespace gi {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+uint64_t nanosecondsSince(Clock::time_point start) {
+    return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - start).count());
+}
+// Pixel streams of the fill pass use a sample index the render never reaches.
+constexpr uint32_t kFillSampleIndex = 0xfffffff0u;
+}  // namespace
+
+IrradianceCacheIntegrator::IrradianceCacheIntegrator(const IrradianceCacheSettings& settings)
+    : DirectIntegrator(settings.record.rayDepth, settings.lightSamples),
+      settings_(settings),
+      recordSampler_(settings.record),
+      cache_(settings.record.accuracy) {}
+
+RecordSite IrradianceCacheIntegrator::siteOf(const ShadingPoint& sp) const {
+    return RecordSite{sp.si.p, sp.si.ng, recordNormal(sp), sp.wo, footprint_.at(sp.si.p)};
+}
+
+void IrradianceCacheIntegrator::beginPreprocess(const PreprocessContext& context) {
+    seed_ = context.seed;
+    footprint_ = PixelFootprint::of(context.camera, context.width, context.height);
+    const SceneBounds& bounds = context.scene.bounds();
+    cache_.reset(bounds.center, bounds.radius);
+}
+
+Ray IrradianceCacheIntegrator::pixelCentreRay(const PreprocessContext& context, uint32_t pixel,
+                                              Sampler& sampler) const {
+    int x = int(pixel % uint32_t(context.width)), y = int(pixel / uint32_t(context.width));
+    sampler.start(x, y, kFillSampleIndex);
+    return context.camera.generateRay(x + 0.5f, y + 0.5f, Vec2(0.5f, 0.5f));
+}
+
+void IrradianceCacheIntegrator::preprocess(const PreprocessContext& context) {
+    auto start = Clock::now();
+    beginPreprocess(context);
+    fillFromPixelCentres(context);
+    preprocessSeconds_ = nanosecondsSince(start) * 1e-9;
+}
+
+void IrradianceCacheIntegrator::fillFromPixelCentres(const PreprocessContext& context) {
+    if (!recordSampler_.gathersLight()) return;
+    PixelPhases phases(context.width, context.height, settings_.record.maxSpacing);
+    for (const std::vector<uint32_t>& pixels : phases.pixelsByPhase()) {
+        if (context.cancel && context.cancel->load()) return;
+        // Sites per fixed-size chunk of pixels, concatenated in chunk order: pixel order.
+        constexpr size_t kChunk = 64;
+        std::vector<std::vector<RecordSite>> chunks((pixels.size() + kChunk - 1) / kChunk);
+        tbb::parallel_for(size_t(0), chunks.size(), [&](size_t chunk) {
+            Sampler sampler(seed_);
+            RayStats stats;
+            for (size_t i = chunk * kChunk; i < std::min(pixels.size(), (chunk + 1) * kChunk); ++i) {
+                Ray ray = pixelCentreRay(context, pixels[i], sampler);
+                forEachDiffuseHit(context.scene, ray, sampler, stats, rayDepth_, [&](const ShadingPoint& sp) {
+                    if (!isBlack(sp.bsdf.diffuseReflectance())) chunks[chunk].push_back(siteOf(sp));
+                });
+            }
+        });
+        std::vector<RecordSite> sites;
+        for (auto& chunk : chunks) sites.insert(sites.end(), chunk.begin(), chunk.end());
+        addMissingRecords(context.scene, recordSampler_, seed_, sites, cache_, preprocessRecords_);
+    }
+}
+
+Color IrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler,
+                                          RayStats& stats) const {
+    Color reflectance = sp.bsdf.diffuseReflectance();
+    if (isBlack(reflectance) || !recordSampler_.gathersLight()) return Color(0.0f);
+    auto start = Clock::now();
+    lookups_.fetch_add(1, std::memory_order_relaxed);
+    Vec3 n = recordNormal(sp);
+    Color E;
+    bool found = cache_.interpolate(sp.si.p, n, &E);
+    if (!found) {
+        found = cache_.interpolate(sp.si.p, n, &E, true);
+        if (found) relaxedLookups_.fetch_add(1, std::memory_order_relaxed);
+    }
+    interpolationNanoseconds_.fetch_add(nanosecondsSince(start), std::memory_order_relaxed);
+    if (!found) {
+        // Nothing near enough: a record for this sample alone, from a stream keyed by its site.
+        auto recordStart = Clock::now();
+        RecordSite site = siteOf(sp);
+        RayStats recordStats;
+        E = recordSampler_.sample(scene, site, seed_, IrradianceRecordSampler::streamKey(site), recordStats).E;
+        stats.rays += recordStats.rays;
+        renderRecords_.records.fetch_add(1, std::memory_order_relaxed);
+        renderRecords_.rays.fetch_add(recordStats.rays, std::memory_order_relaxed);
+        renderRecords_.nanoseconds.fetch_add(nanosecondsSince(recordStart), std::memory_order_relaxed);
+    }
+    return reflectance * E * kInvPi;
+}
+
+std::map<std::string, double> IrradianceCacheIntegrator::statistics() const {
+    double recordSeconds = (preprocessRecords_.nanoseconds.load() + renderRecords_.nanoseconds.load()) * 1e-9;
+    return {
+        {"records", double(cache_.size())},
+        {"preprocessRecords", double(preprocessRecords_.records.load())},
+        {"renderTimeRecords", double(renderRecords_.records.load())},
+        {"recordRays", double(preprocessRecords_.rays.load() + renderRecords_.rays.load())},
+        {"recordSeconds", recordSeconds},  // thread-seconds spent computing records
+        {"interpolationSeconds", interpolationNanoseconds_.load() * 1e-9},  // thread-seconds in lookups
+        {"preprocessSeconds", preprocessSeconds_},
+        {"lookups", double(lookups_.load())},
+        {"relaxedLookups", double(relaxedLookups_.load())},
+        {"hemisphereCells", double(recordSampler_.layout().cells())},
+        {"cacheBytes", double(cache_.memoryBytes())},
+    };
+}
+
+}  // namespace gi

@@ -1,0 +1,61 @@
+// Irradiance caching (thesis 2.4.5, 3.3.1): the ray tracer's emission, direct light and
+// specular recursion, with indirect diffuse light interpolated from a cache of irradiance
+// records: indirect radiance = diffuse reflectance / pi * E_indirect.
+//
+// preprocess() fills the cache in a coarse-to-fine pass over the pixel centres
+// (progressive_fill.h); the render then only reads it. A render-time lookup that finds no
+// valid record (a jittered sample between covered pixel centres, a point on a curved
+// surface whose normal turned past alpha+) first retries with the limits relaxed by a pixel
+// and a doubled angle, and failing that computes a record for that sample alone, without
+// storing it: every thread sees the same cache, so the image does not depend on thread timing.
+#pragma once
+#include <atomic>
+
+#include "direct.h"
+#include "irradiance_cache.h"
+#include "irradiance_record_sampler.h"
+#include "pixel_footprint.h"
+#include "progressive_fill.h"
+
+namespace gi {
+
+struct IrradianceCacheSettings {
+    RecordSettings record;
+    int lightSamples = 1;
+};
+
+class IrradianceCacheIntegrator : public DirectIntegrator {
+public:
+    explicit IrradianceCacheIntegrator(const IrradianceCacheSettings& settings);
+    void preprocess(const PreprocessContext& context) override;
+    std::map<std::string, double> statistics() const override;
+
+    const IrradianceCache& cache() const { return cache_; }
+    const IrradianceRecordSampler& recordSampler() const { return recordSampler_; }
+    // Where the record serving shading point sp would be computed.
+    RecordSite siteOf(const ShadingPoint& sp) const;
+
+protected:
+    Color indirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler, RayStats& stats) const override;
+
+    // Empties the cache and takes the view, seed and scene extent from the context.
+    void beginPreprocess(const PreprocessContext& context);
+    // Fills the cache from the pixel centres' shading points, coarse to fine.
+    void fillFromPixelCentres(const PreprocessContext& context);
+    // The camera ray through a pixel's centre; the sampler is set to that pixel's fill stream.
+    Ray pixelCentreRay(const PreprocessContext& context, uint32_t pixel, Sampler& sampler) const;
+
+    IrradianceCacheSettings settings_;
+    IrradianceRecordSampler recordSampler_;
+    IrradianceCache cache_;
+    PixelFootprint footprint_;
+    uint32_t seed_ = 0;
+    double preprocessSeconds_ = 0;
+    RecordCounters preprocessRecords_;
+
+    // Render-time counters (the render runs on many threads through const Li).
+    mutable RecordCounters renderRecords_;
+    mutable std::atomic<uint64_t> lookups_{0}, relaxedLookups_{0}, interpolationNanoseconds_{0};
+};
+
+}  // namespace gi

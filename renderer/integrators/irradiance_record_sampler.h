@@ -1,0 +1,64 @@
+// Computes irradiance-cache records (thesis 2.4.5, 3.3.1): path tracing over a hemisphere
+// stratified into M x N cells of equal projected area, the cell layout that the Ward & Heckbert
+// gradients (2.29, 2.30) are defined on.
+#pragma once
+#include "irradiance_record.h"
+#include "path.h"
+
+namespace gi {
+
+// M polar x N azimuthal cells; N close to pi M (Ward & Heckbert's proportion), M N = paths
+// whenever `paths` has a divisor near sqrt(paths / pi).
+struct HemisphereLayout {
+    int polar = 1, azimuthal = 1;
+    static HemisphereLayout forPaths(int paths);
+    int cells() const { return polar * azimuthal; }
+};
+
+// Where a record is wanted: position, geometric normal (for the ray offset), the normal of the
+// hemisphere, the direction towards the viewer, and the world-space size of a pixel there.
+struct RecordSite {
+    Vec3 p, ng, n, wo;
+    float footprint = 0;
+};
+
+struct RecordSettings {
+    int paths = 108;        // M N hemisphere rays
+    int pathDepth = 5;      // scattering vertices of a record's paths, counting the record's own
+    int rayDepth = 5;       // specular vertices of those paths
+    int rouletteDepth = 3;  // vertices before Russian roulette
+    float accuracy = 1;     // k of 2.32
+    float minSpacing = 1.5f, maxSpacing = 10;  // record radius bounds, in pixels
+};
+
+class IrradianceRecordSampler {
+public:
+    explicit IrradianceRecordSampler(const RecordSettings& settings);
+
+    // False when the paths are too short to carry any light that has bounced (pathDepth < 2).
+    bool gathersLight() const { return settings_.pathDepth >= 2; }
+    const HemisphereLayout& layout() const { return layout_; }
+    const RecordSettings& settings() const { return settings_; }
+
+    // Samples the hemisphere above `site`. The random numbers come from stream `streamKey` of
+    // a sampler seeded with `seed`, cell c using the stream's sample c, so a record depends on
+    // (seed, key, site) only.
+    IrradianceRecord sample(const Scene& scene, const RecordSite& site, uint32_t seed, uint32_t streamKey,
+                            RayStats& stats) const;
+
+    // A stream key from a site's position and normal bits: the same site always gets the same
+    // random numbers, whichever pass or thread computes it.
+    static uint32_t streamKey(const RecordSite& site);
+
+private:
+    // Radiance arriving at the site from direction wi that has bounced at least once: the
+    // direct light that the ray tracer adds by light sampling is left out. Sets the hit distance.
+    Color bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi, Sampler& sampler,
+                          RayStats& stats, float* distance) const;
+
+    RecordSettings settings_;
+    HemisphereLayout layout_;
+    PathIntegrator continuation_;  // paths from a hemisphere ray's first hit onwards
+};
+
+}  // namespace gi

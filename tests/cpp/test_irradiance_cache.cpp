@@ -1,0 +1,366 @@
+// Irradiance caching and its adaptive refinement (thesis 2.4.5, 3.3.1, 3.3.2): degenerate
+// records, the gradients, the accuracy parameter, determinism across thread counts, and
+// plausibility against the path tracer. (The white furnace is in test_integrators.cpp.)
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "renderer/integrators/irradiance_cache_integrator.h"
+#include "renderer/integrators/progressive_fill.h"
+#include "scenes.h"
+
+using namespace gi;
+using namespace gi::test;
+
+namespace {
+
+// Row-vector camera/light frame looking from `eye` along `forward` (USD: -Z is the view axis).
+Mat4 lookAlong(Vec3 eye, Vec3 forward, Vec3 up = Vec3(0, 1, 0)) {
+    Vec3 f = normalize(forward), r = normalize(cross(f, up)), u = cross(r, f);
+    Mat4 m;
+    Vec3 rows[4] = {r, u, -f, eye};
+    for (int i = 0; i < 4; ++i) m.m[i][0] = rows[i].x, m.m[i][1] = rows[i].y, m.m[i][2] = rows[i].z;
+    return m;
+}
+
+void addDistantLight(Scene& scene, Vec3 direction, float intensity) {
+    LightDesc sun;
+    sun.name = "/Sun";
+    sun.kind = "distant";
+    sun.angle = 0;
+    sun.intensity = intensity;
+    Vec3 up = std::fabs(normalize(direction).y) > 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    sun.transform = lookAlong(Vec3(0.0f), direction, up);
+    scene.addLight(sun);
+}
+
+// Two perpendicular quads meeting at the line x = y = 0 (a floor and a wall), lit by a sun.
+void buildCorner(Scene& scene) {
+    int white = scene.addMaterial(lambert(Color(0.8f)));
+    int red = scene.addMaterial(lambert(Color(0.8f, 0.2f, 0.2f)));
+    addQuad(scene, "/Floor", {0, 0, -1}, {0, 0, 1}, {2, 0, 1}, {2, 0, -1}, white);
+    addQuad(scene, "/Wall", {0, 0, -1}, {0, 2, -1}, {0, 2, 1}, {0, 0, 1}, red);
+    addDistantLight(scene, Vec3(-1, -1.5f, -0.4f), 3);
+    CameraDesc camera;
+    camera.name = "/Camera";
+    camera.focalLength = 25;
+    camera.transform = lookAlong(Vec3(2.6f, 1.6f, 2.2f), Vec3(-2.4f, -1.4f, -2.2f));
+    scene.setCamera(camera);
+}
+
+// A unit Cornell box open towards +z, lit by a small sphere light under the ceiling that the
+// camera does not see (its edges would dominate any error measure).
+void buildCornellBox(Scene& scene) {
+    int white = scene.addMaterial(lambert(Color(0.75f)));
+    int red = scene.addMaterial(lambert(Color(0.75f, 0.15f, 0.15f)));
+    int green = scene.addMaterial(lambert(Color(0.15f, 0.75f, 0.15f)));
+    addQuad(scene, "/Floor", {0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}, white);
+    addQuad(scene, "/Ceiling", {0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}, white);
+    addQuad(scene, "/Back", {0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}, white);
+    addQuad(scene, "/Left", {0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}, red);
+    addQuad(scene, "/Right", {1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}, green);
+    addQuad(scene, "/Block", {0.25f, 0, 0.35f}, {0.25f, 0.45f, 0.35f}, {0.45f, 0.45f, 0.5f}, {0.45f, 0, 0.5f}, white);
+    LightDesc bulb;
+    bulb.name = "/Light";
+    bulb.kind = "sphere";
+    bulb.radius = 0.05f;
+    bulb.intensity = 35;
+    bulb.visibleToCamera = false;
+    bulb.transform.m[3][0] = 0.5f, bulb.transform.m[3][1] = 0.85f, bulb.transform.m[3][2] = 0.5f;
+    scene.addLight(bulb);
+    CameraDesc camera;
+    camera.name = "/Camera";
+    camera.focalLength = 35;
+    camera.transform = lookAlong(Vec3(0.5f, 0.5f, 2.3f), Vec3(0, 0, -1));
+    scene.setCamera(camera);
+}
+
+struct Rendered {
+    std::vector<float> rgb;
+    RenderStats stats;
+};
+
+Rendered render(Scene& scene, const std::string& integrator, int size, int spp,
+                const std::map<std::string, double>& params, uint32_t seed = 1, int threads = 0) {
+    if (!scene.committed()) scene.commit();
+    RenderSettings settings;
+    settings.width = settings.height = size;
+    settings.spp = spp;
+    settings.integrator = integrator;
+    settings.seed = seed;
+    settings.threads = threads;
+    for (auto& [k, v] : params) settings.params.set(k, v);
+    Renderer renderer(scene, settings);
+    renderer.render();
+    return {renderer.film().color(), renderer.stats()};
+}
+
+void printStatistics(const char* label, const RenderStats& stats) {
+    std::printf("[ stats    ] %s: %.0f records (%.0f at render time), %.3f s computing records, %.3f s interpolating,"
+                " preprocess %.3f s, render %.3f s, peak RSS %.1f MB\n",
+                label, stats.integrator.at("records"), stats.integrator.at("renderTimeRecords"),
+                stats.integrator.at("recordSeconds"), stats.integrator.at("interpolationSeconds"),
+                stats.preprocessSeconds, stats.renderSeconds, stats.peakMemoryBytes / 1048576.0);
+}
+
+double rmse(const std::vector<float>& a, const std::vector<float>& b) {
+    double sum = 0;
+    for (size_t i = 0; i < a.size(); ++i) sum += double(a[i] - b[i]) * (a[i] - b[i]);
+    return std::sqrt(sum / a.size());
+}
+
+const char* const kCaches[] = {"irradianceCache", "adaptiveIrradianceCache"};
+
+TEST(IrradianceCacheRegistry, BothIntegratorsReflectTheirParameters) {
+    for (const char* name : kCaches) {
+        const IntegratorInfo* info = findIntegrator(name);
+        ASSERT_NE(info, nullptr) << name;
+        std::vector<std::string> names;
+        for (const ParamInfo& p : info->params) names.push_back(p.name);
+        for (const char* expected : {"paths", "pathDepth", "rayDepth", "accuracy", "minSpacing", "maxSpacing"})
+            EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << name << " " << expected;
+        bool adaptive = std::string(name) == "adaptiveIrradianceCache";
+        EXPECT_EQ(std::find(names.begin(), names.end(), "threshold") != names.end(), adaptive) << name;
+    }
+    ParamSet p;
+    p.set("accuracy", -3);  // out of range: clamped
+    EXPECT_GT(paramValue(*findIntegrator("irradianceCache"), p, "accuracy"), 0.0);
+}
+
+// --- records in degenerate places ---------------------------------------------------------
+
+IrradianceRecord recordAt(const Scene& scene, Vec3 p, Vec3 n, int paths = 256, float footprint = 0.01f,
+                          Vec3 towardsViewer = Vec3(0.0f)) {
+    RecordSettings settings;
+    settings.paths = paths;
+    IrradianceRecordSampler sampler(settings);
+    RecordSite site{p, n, n, lengthSquared(towardsViewer) > 0 ? towardsViewer : n, footprint};
+    RayStats stats;
+    return sampler.sample(scene, site, 1, IrradianceRecordSampler::streamKey(site), stats);
+}
+
+void expectFiniteRecord(const IrradianceRecord& r, const char* where) {
+    EXPECT_TRUE(isFinite(r.E)) << where;
+    EXPECT_GE(std::min(r.E.x, std::min(r.E.y, r.E.z)), 0.0f) << where;
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_TRUE(isFinite(r.rotationGradient[c])) << where;
+        EXPECT_TRUE(isFinite(r.translationGradient[c])) << where;
+    }
+    EXPECT_TRUE(std::isfinite(r.radius) && r.radius > 0) << where;
+    EXPECT_TRUE(std::isfinite(r.sigma)) << where;
+}
+
+TEST(IrradianceRecord, DegenerateSitesStayFinite) {
+    Scene scene;
+    buildCorner(scene);
+    scene.commit();
+    // In the crease: the hemisphere rays towards the wall hit it at ~0 distance.
+    IrradianceRecord nearCrease = recordAt(scene, Vec3(1e-4f, 0, 0), Vec3(0, 1, 0));
+    expectFiniteRecord(nearCrease, "near the crease");
+    EXPECT_NEAR(nearCrease.radius, 1.5f * 0.01f, 1e-6f) << "a crease record takes the smallest radius, R-";
+    // Exactly on the crease line, on the floor's plane and the wall's: no ray may slip under
+    // the wall, so the record sees what its neighbours see, and takes the smallest radius.
+    IrradianceRecord onCrease = recordAt(scene, Vec3(0, 0, 0), Vec3(0, 1, 0), 256, 0.01f, normalize(Vec3(1, 1, 0)));
+    expectFiniteRecord(onCrease, "on the crease");
+    EXPECT_NEAR(onCrease.radius, 1.5f * 0.01f, 1e-6f);
+    EXPECT_NEAR(luminance(onCrease.E), luminance(nearCrease.E), 0.1f * luminance(nearCrease.E));
+    IrradianceRecord onWallEdge = recordAt(scene, Vec3(0, 0, 0.5f), Vec3(1, 0, 0), 256, 0.01f, normalize(Vec3(1, 1, 0)));
+    IrradianceRecord nearWallEdge = recordAt(scene, Vec3(0, 1e-4f, 0.5f), Vec3(1, 0, 0));
+    expectFiniteRecord(onWallEdge, "the wall's edge on the floor");
+    EXPECT_NEAR(luminance(onWallEdge.E), luminance(nearWallEdge.E), 0.1f * luminance(nearWallEdge.E));
+    // On the floor's outer edge, and beyond it (the hemisphere half over nothing).
+    expectFiniteRecord(recordAt(scene, Vec3(2, 0, 0), Vec3(0, 1, 0)), "mesh edge");
+    expectFiniteRecord(recordAt(scene, Vec3(2, 0, 1), Vec3(0, 1, 0)), "mesh corner");
+    // A flipped normal: the hemisphere under the floor sees nothing.
+    IrradianceRecord below = recordAt(scene, Vec3(1, 0, 0), Vec3(0, -1, 0));
+    expectFiniteRecord(below, "flipped normal");
+    EXPECT_EQ(luminance(below.E), 0.0f);
+    // Light arriving only from near the horizon: tan(theta) must not blow up the rotation gradient.
+    IrradianceRecord grazing = recordAt(scene, Vec3(1.9f, 0, 0), Vec3(0, 1, 0), 1024);
+    expectFiniteRecord(grazing, "grazing");
+    for (int c = 0; c < 3; ++c)
+        EXPECT_LT(length(grazing.rotationGradient[c]), 50 * std::max(grazing.E[c], 1e-3f)) << "channel " << c;
+}
+
+TEST(IrradianceRecord, FlippedNormalFindsNoRecord) {
+    IrradianceRecord r;
+    r.p = Vec3(0.0f);
+    r.n = Vec3(0, 1, 0);
+    r.radius = 1;
+    EXPECT_GT(r.weight(Vec3(0.1f, 0, 0), Vec3(0, 1, 0), 1), 0.0f);
+    EXPECT_LE(r.weight(Vec3(0.1f, 0, 0), Vec3(0, -1, 0), 1), 0.0f);
+    EXPECT_LE(r.weight(Vec3(0.1f, 0, 0), Vec3(0, -1, 0), 0.01f, true), 0.0f) << "not even at the lowest accuracy";
+    EXPECT_LE(r.weight(Vec3(0.1f, 0, 0), normalize(Vec3(1, 0.2f, 0)), 1), 0.0f) << "past alpha+";
+}
+
+// --- gradients ----------------------------------------------------------------------------
+
+// A floor next to a sunlit white wall: the floor gets no direct light (the sun grazes it), and
+// its indirect irradiance falls off steeply away from the wall and rises as its normal tilts
+// towards it.
+TEST(IrradianceRecord, GradientsPredictNearbyRecords) {
+    Scene scene;
+    int white = scene.addMaterial(lambert(Color(0.8f)));
+    addQuad(scene, "/Floor", {0, 0, -20}, {0, 0, 20}, {20, 0, 20}, {20, 0, -20}, white);
+    addQuad(scene, "/Wall", {0, 0, -20}, {0, 1, -20}, {0, 1, 20}, {0, 0, 20}, white);
+    addDistantLight(scene, Vec3(-1, 0, 0), 5);
+    scene.commit();
+    const int paths = 16384;
+    const Vec3 p0(0.6f, 0, 0), up(0, 1, 0);
+    IrradianceRecord base = recordAt(scene, p0, up, paths);
+    ASSERT_GT(base.E.x, 0.01f);
+    for (Vec3 offset : {Vec3(0.08f, 0, 0), Vec3(-0.08f, 0, 0), Vec3(0.05f, 0, 0.05f)}) {
+        IrradianceRecord fresh = recordAt(scene, p0 + offset, up, paths);
+        float with = std::fabs(base.extrapolate(p0 + offset, up).x - fresh.E.x);
+        float without = std::fabs(base.E.x - fresh.E.x);
+        std::printf("[ gradient ] translation by (%g, %g, %g): E %.4f -> %.4f, extrapolated %.4f\n", offset.x,
+                    offset.y, offset.z, base.E.x, fresh.E.x, base.extrapolate(p0 + offset, up).x);
+        EXPECT_LT(with, 0.5f * without) << "translation by (" << offset.x << ", " << offset.z << ")";
+    }
+    for (float degrees : {8.0f, -8.0f}) {
+        float a = degrees * kPi / 180;
+        Vec3 tilted(-std::sin(a), std::cos(a), 0);  // positive: towards the wall
+        IrradianceRecord fresh = recordAt(scene, p0, tilted, paths);
+        float with = std::fabs(base.extrapolate(p0, tilted).x - fresh.E.x);
+        float without = std::fabs(base.E.x - fresh.E.x);
+        std::printf("[ gradient ] rotation by %g degrees: E %.4f -> %.4f, extrapolated %.4f\n", degrees, base.E.x,
+                    fresh.E.x, base.extrapolate(p0, tilted).x);
+        EXPECT_LT(with, 0.5f * without) << "rotation by " << degrees << " degrees";
+    }
+}
+
+// --- whole renders --------------------------------------------------------------------------
+
+TEST(IrradianceCacheRender, CornerIsFiniteAndPlausible) {
+    Scene scene;
+    buildCorner(scene);
+    Rendered reference = render(scene, "path", 32, 256, {{"pathDepth", 5}});
+    float referenceMax = *std::max_element(reference.rgb.begin(), reference.rgb.end());
+    for (const char* integrator : kCaches) {
+        Rendered image = render(scene, integrator, 32, 4, {{"paths", 128}, {"pathDepth", 5}});
+        printStatistics(integrator, image.stats);
+        EXPECT_EQ(image.stats.nonFiniteSamples, 0u) << integrator;
+        for (size_t i = 0; i < image.rgb.size(); ++i) {
+            ASSERT_TRUE(std::isfinite(image.rgb[i])) << integrator << " value " << i;
+            ASSERT_GE(image.rgb[i], 0.0f) << integrator << " value " << i;
+            ASSERT_LE(image.rgb[i], 1.25f * referenceMax) << integrator << " value " << i;
+        }
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(channelMean(image.rgb, c), channelMean(reference.rgb, c), 0.05 * channelMean(reference.rgb, c))
+                << integrator << " channel " << c;
+    }
+}
+
+// The adaptive variant's count grows from k = 1 on; below that its refinement adds more
+// records the looser the start is (a loose cache is discernibly wrong in more places).
+std::vector<double> accuracies(const std::string& integrator, std::vector<double> all) {
+    if (integrator == "adaptiveIrradianceCache") all.erase(all.begin(), std::find(all.begin(), all.end(), 1.0));
+    return all;
+}
+
+TEST(IrradianceCacheRender, RecordsGrowAsAccuracyTightens) {
+    for (const char* integrator : kCaches) {
+        double previous = 0;
+        for (double accuracy : accuracies(integrator, {0.5, 1.0, 2.0, 4.0})) {
+            Scene scene;
+            buildCorner(scene);
+            Rendered image = render(scene, integrator, 48, 1, {{"paths", 32}, {"accuracy", accuracy}});
+            double records = image.stats.integrator.at("records");
+            std::printf("[ records  ] %s accuracy %g: %.0f records\n", integrator, accuracy, records);
+            EXPECT_GT(records, previous) << integrator << " accuracy " << accuracy;
+            previous = records;
+        }
+    }
+}
+
+TEST(IrradianceCacheRender, SameImageWhateverTheThreadCount) {
+    for (const char* integrator : kCaches) {
+        auto once = [&](int threads, uint32_t seed) {
+            Scene scene;
+            buildCorner(scene);
+            return render(scene, integrator, 32, 2, {{"paths", 32}}, seed, threads).rgb;
+        };
+        std::vector<float> a = once(0, 5), b = once(0, 5), single = once(1, 5);
+        EXPECT_EQ(a, b) << integrator;
+        EXPECT_EQ(a, single) << integrator << ": one thread vs all";
+        EXPECT_NE(a, once(0, 6)) << integrator << ": the seed must matter";
+    }
+}
+
+// --- the Cornell box against a path-traced reference (issue 4) -----------------------------
+
+class CornellBox : public ::testing::Test {
+protected:
+    static constexpr int kSize = 48;
+    static void SetUpTestSuite() {
+        scene_ = new Scene;
+        buildCornellBox(*scene_);
+        reference_ = new Rendered(render(*scene_, "path", kSize, 1024, {{"pathDepth", 5}}));
+    }
+    static void TearDownTestSuite() {
+        delete reference_;
+        delete scene_;
+    }
+    // Enough light samples that the direct light's noise does not hide the cache's error; the
+    // direct light's noise is the same in every cache render (the cache draws no samples).
+    static Rendered renderCache(const char* integrator, double accuracy) {
+        return render(*scene_, integrator, kSize, 16, {{"paths", 512}, {"accuracy", accuracy}, {"lightSamples", 4}});
+    }
+    static double luminanceAt(const std::vector<float>& rgb, int x, int y) {
+        const float* p = &rgb[3 * (size_t(y) * kSize + x)];
+        return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    }
+    // Energy of the discrete Laplacian of the luminance error: seams and blotches, not bias.
+    static double highFrequencyError(const std::vector<float>& rgb) {
+        double sum = 0;
+        auto error = [&](int x, int y) { return luminanceAt(rgb, x, y) - luminanceAt(reference_->rgb, x, y); };
+        for (int y = 1; y + 1 < kSize; ++y)
+            for (int x = 1; x + 1 < kSize; ++x) {
+                double l = 4 * error(x, y) - error(x - 1, y) - error(x + 1, y) - error(x, y - 1) - error(x, y + 1);
+                sum += l * l;
+            }
+        return sum / ((kSize - 2) * (kSize - 2));
+    }
+    static Scene* scene_;
+    static Rendered* reference_;
+};
+Scene* CornellBox::scene_ = nullptr;
+Rendered* CornellBox::reference_ = nullptr;
+
+// The plain cache's error falls as its accuracy tightens. The adaptive variant's does not
+// have to - its refinement already removes what a loose cache gets discernibly wrong - but
+// at every accuracy it is at least as close to the reference as the plain cache.
+TEST_F(CornellBox, ErrorFallsAsAccuracyTightens) {
+    double previous = 1e30;
+    for (double accuracy : {0.25, 1.0, 4.0}) {
+        Rendered plain = renderCache("irradianceCache", accuracy);
+        Rendered adaptive = renderCache("adaptiveIrradianceCache", accuracy);
+        double plainError = rmse(plain.rgb, reference_->rgb), adaptiveError = rmse(adaptive.rgb, reference_->rgb);
+        std::printf("[ cornell  ] accuracy %g: irradianceCache %.0f records, RMSE %.5f;"
+                    " adaptiveIrradianceCache %.0f records, RMSE %.5f\n",
+                    accuracy, plain.stats.integrator.at("records"), plainError,
+                    adaptive.stats.integrator.at("records"), adaptiveError);
+        EXPECT_LT(plainError, previous) << "accuracy " << accuracy;
+        EXPECT_LE(adaptiveError, 1.02 * plainError) << "accuracy " << accuracy;
+        previous = plainError;
+    }
+}
+
+// At (at least) equal record count the adaptive variant has no more seams than the plain
+// cache: the high-frequency energy of its error is no larger.
+TEST_F(CornellBox, AdaptiveHasNoMoreDiscontinuities) {
+    Rendered adaptive = renderCache("adaptiveIrradianceCache", 1);
+    double records = adaptive.stats.integrator.at("records");
+    for (double accuracy : {1.0, 1.5, 2.0, 3.0, 4.0, 8.0}) {
+        Rendered plain = renderCache("irradianceCache", accuracy);
+        if (plain.stats.integrator.at("records") < records) continue;
+        double adaptiveHf = highFrequencyError(adaptive.rgb), plainHf = highFrequencyError(plain.rgb);
+        std::printf("[ seams    ] adaptive %.0f records: %.3g; plain (accuracy %g) %.0f records: %.3g\n", records,
+                    adaptiveHf, accuracy, plain.stats.integrator.at("records"), plainHf);
+        EXPECT_LE(adaptiveHf, plainHf);
+        return;
+    }
+    FAIL() << "no plain cache reached " << records << " records";
+}
+
+}  // namespace
