@@ -1,4 +1,5 @@
-"""The `gi` command: `gi render` (a USD scene to a linear EXR and a display PNG) and `gi inspect`.
+"""The `gi` command: `gi render` (a USD scene to a linear EXR and a display PNG), `gi inspect`, and
+`gi reference` / `gi study` (error against run time, in gi.reference and gi.study).
 
 gi._core is imported lazily, so `gi --help` and `gi inspect` work before the renderer is built."""
 import argparse
@@ -224,6 +225,61 @@ def add_render_parser(commands, flags):
     return render
 
 
+def add_common_render_options(parser, size_and_camera_from="the stage's render settings"):
+    """--resolution, --seed, --threads, --camera, as `gi render` has them."""
+    parser.add_argument("--resolution", type=positive_int, nargs=2, metavar=("W", "H"),
+                        help=f"image size (default: {size_and_camera_from})")
+    parser.add_argument("--seed", type=int, default=0, help="sampler seed (default 0)")
+    parser.add_argument("--threads", type=int, default=0, help="worker threads (default 0 = all cores)")
+    parser.add_argument("--camera", metavar="PRIM", help=f"camera prim path (default: {size_and_camera_from})")
+
+
+def add_reference_parser(commands):
+    reference = commands.add_parser(
+        "reference", help="render an unbiased path-traced reference EXR progressively",
+        description="Renders batches of the path tracer until the relative standard error of the image "
+                    "mean is under --target-error or --max-seconds pass; writes spp, time and the error "
+                    "estimate into the EXR's metadata.")
+    reference.add_argument("scene", help="a USD file")
+    reference.add_argument("-o", "--output", required=True, help="EXR path")
+    reference.add_argument("--max-seconds", type=float, default=3600.0, metavar="S",
+                           help="time limit (default 3600; 0 = none)")
+    reference.add_argument("--target-error", type=float, default=0.002, metavar="E",
+                           help="relative standard error of the image mean to reach (default 0.002)")
+    add_common_render_options(reference)
+
+
+def comma_list(text):
+    return [item.strip() for item in text.split(",") if item.strip()]
+
+
+def seconds_list(text):
+    try:
+        values = [float(item) for item in comma_list(text)]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a comma-separated list of seconds") from None
+    if not values or min(values) <= 0:
+        raise argparse.ArgumentTypeError(f"{text!r}: budgets must be positive seconds")
+    return values
+
+
+def add_study_parser(commands, flags):
+    study = commands.add_parser(
+        "study", help="compare integrators against a reference at equal time or fixed parameters",
+        description="Renders every integrator at each time budget (or each run of a parameter table) and "
+                    "writes results.csv, error_vs_time.png, the renders, difference images and "
+                    "report.md / report.html into the output folder.")
+    study.add_argument("scene", help="a USD file")
+    study.add_argument("--reference", required=True, help="reference EXR (e.g. from `gi reference`)")
+    study.add_argument("--integrators", type=comma_list,
+                       help=f"comma-separated (default: all: {', '.join(sorted(flags.owners)) or 'none built'})")
+    runs = study.add_mutually_exclusive_group()
+    runs.add_argument("--budgets", type=seconds_list, help="comma-separated seconds per run (default 1,2,4)")
+    runs.add_argument("--params-file", help="JSON table of runs at fixed parameters (see gi.study)")
+    study.add_argument("-o", "--output", default="study", metavar="DIR", help="output folder (default ./study)")
+    add_common_render_options(study, "the reference's")
+
+
 def build_parser():
     """(parser, its render subparser, the integrator flags)."""
     parser = argparse.ArgumentParser(prog="gi", description="hdGi: CPU global illumination for USD scenes")
@@ -233,6 +289,8 @@ def build_parser():
     render = add_render_parser(commands, flags)
     inspect = commands.add_parser("inspect", help="list what a scene contains (counts, lights, textures)")
     inspect.add_argument("scene", help="a USD file")
+    add_reference_parser(commands)
+    add_study_parser(commands, flags)
     return parser, render, flags
 
 
@@ -242,6 +300,12 @@ def main(argv=None):
     try:
         if args.command == "render":
             return cmd_render(args, flags, render_parser)
+        if args.command == "reference":
+            from .reference import cmd_reference
+            return cmd_reference(args)
+        if args.command == "study":
+            from .study import cmd_study
+            return cmd_study(args)
         return cmd_inspect(args)
     except (SceneError, CoreMissing, ValueError) as error:  # ValueError: the renderer rejects a setting
         print(f"gi: error: {error}", file=sys.stderr)

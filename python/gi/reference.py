@@ -1,0 +1,222 @@
+"""`gi reference`: an unbiased path-traced reference image, rendered progressively.
+
+The reference is made of batches: independent renders of the path integrator, each with its own seed,
+with the integrator's default light transport (spec section 6, which every technique shares). Batches
+double in samples per pixel up to MAX_BATCH_SPP, then stay at that size so that long references keep
+adding batches to the spread estimate. The image is the spp-weighted mean of the batches.
+
+Stopping rule: batch k's image mean m_k has variance s^2 / n_k (n_k its spp), so s^2 is estimated
+from the batches' weighted spread, s^2 = sum n_k (m_k - M)^2 / (K - 1), and the standard error of
+the combined mean M = sum n_k m_k / N is sqrt(s^2 / N). Rendering stops once SE / M falls below the
+target (after at least MIN_BATCHES batches) or when the time limit passes.
+"""
+from __future__ import annotations
+
+import datetime
+import json
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+
+INTEGRATOR = "path"
+FIRST_BATCH_SPP = 1
+MAX_BATCH_SPP = 256
+MIN_BATCHES = 4        # a spread from fewer batches is too noisy to stop on
+ESTIMATE_BATCHES = 2   # always render this many, even past the time limit, so there is an estimate
+
+
+# -- statistics over batches ---------------------------------------------------------------------
+
+def weighted_standard_error(weighted_sum, weighted_square_sum, total_weight, batches):
+    """(mean, standard error of the mean) of batch values x_k whose variances are s^2 / n_k.
+
+    weighted_sum = sum n_k x_k, weighted_square_sum = sum n_k x_k^2, total_weight = N = sum n_k.
+    Works on scalars and, elementwise, on arrays. The error is inf with fewer than two batches."""
+    mean = weighted_sum / total_weight
+    if batches < 2:
+        return mean, np.full_like(np.asarray(mean, dtype=np.float64), np.inf)
+    # sum n_k (x_k - M)^2 = sum n_k x_k^2 - N M^2; rounding can make it slightly negative.
+    spread = np.maximum(weighted_square_sum - total_weight * mean ** 2, 0.0)
+    variance_per_sample = spread / (batches - 1)
+    return mean, np.sqrt(variance_per_sample / total_weight)
+
+
+class BatchAccumulator:
+    """Running spp-weighted sums of batch images: the combined image and its error estimates."""
+
+    def __init__(self):
+        self.samples = 0
+        self.batches = 0
+        self._sum = None          # sum n_k x_k, per pixel and channel (float64)
+        self._square_sum = None   # sum n_k x_k^2
+        self._mean_sum = 0.0      # sum n_k m_k, m_k = batch k's image mean
+        self._mean_square_sum = 0.0
+
+    def add(self, color, spp):
+        x = np.asarray(color, dtype=np.float64)[..., :3]
+        if self._sum is None:
+            self._sum, self._square_sum = np.zeros_like(x), np.zeros_like(x)
+        self._sum += spp * x
+        self._square_sum += spp * x * x
+        batch_mean = float(x.mean())
+        self._mean_sum += spp * batch_mean
+        self._mean_square_sum += spp * batch_mean * batch_mean
+        self.samples += spp
+        self.batches += 1
+
+    def image(self):
+        return (self._sum / self.samples).astype(np.float32)
+
+    def relative_standard_error(self):
+        """Standard error of the image mean over the image mean (the stopping criterion)."""
+        mean, error = weighted_standard_error(self._mean_sum, self._mean_square_sum, self.samples, self.batches)
+        return float(error / mean) if mean > 0 else float("inf")
+
+    def pixel_relative_standard_error(self):
+        """RMS over pixels and channels of each value's standard error, over the image mean.
+
+        Not the stopping criterion; recorded because the image mean converges long before single
+        pixels do on large images, and a user judging a reference wants to know both."""
+        mean, error = weighted_standard_error(self._sum, self._square_sum, self.samples, self.batches)
+        image_mean = float(mean.mean())
+        if not np.isfinite(error).all() or image_mean <= 0:
+            return float("inf")
+        return float(np.sqrt(np.mean(error ** 2)) / image_mean)
+
+
+def batch_seeds(seed):
+    """Independent sampler seeds for successive batches, derived from the user's seed.
+
+    SeedSequence keeps references made with different --seed values from sharing batches."""
+    sequence = np.random.SeedSequence(seed)
+    while True:
+        for state in sequence.generate_state(64, dtype=np.uint32):
+            yield int(state) & 0x7FFFFFFF  # RenderSettings.seed is a C int
+        sequence = sequence.spawn(1)[0]
+
+
+# -- rendering -----------------------------------------------------------------------------------
+
+@dataclass
+class Reference:
+    color: np.ndarray           # (H, W, 3) linear RGB
+    spp: int
+    batches: int
+    seconds: float
+    relative_standard_error: float
+    pixel_relative_standard_error: float
+    stopped_by: str             # 'target' | 'time'
+    camera_path: str
+
+
+class ReferenceProgress:
+    """A tqdm bar that moves with elapsed time or with the error's approach to the target."""
+
+    def __init__(self, enabled, max_seconds, target_error):
+        from .cli import progress_bar
+        self.bar, self._update = progress_bar("reference", enabled)
+        self.max_seconds, self.target_error = max_seconds, target_error
+        self.start = time.perf_counter()
+        self.error_fraction = 0.0
+
+    def elapsed(self):
+        return time.perf_counter() - self.start
+
+    def time_left(self):
+        return self.max_seconds - self.elapsed() if self.max_seconds > 0 else float("inf")
+
+    def tick(self, _fraction_of_batch=None):
+        time_fraction = self.elapsed() / self.max_seconds if self.max_seconds > 0 else 0.0
+        self._update(max(time_fraction, self.error_fraction))
+
+    def batch_done(self, accumulator):
+        error = accumulator.relative_standard_error()
+        # The error falls as 1/sqrt(spp): (target / error)^2 is the fraction of samples taken so far.
+        self.error_fraction = min((self.target_error / error) ** 2, 1.0) if error > 0 else 1.0
+        self.bar.set_description(f"reference {accumulator.samples} spp, error {error:.2%}")
+        self.tick()
+
+    def close(self):
+        self.bar.close()
+
+
+def render_batch(loaded, spp, seed, threads, time_limit, resolution, progress):
+    from .cli import render_settings, require_core
+    settings = render_settings(loaded, INTEGRATOR, {}, spp, seed, threads, time_limit, resolution, "box")
+    return require_core().render(loaded.scene, settings, progress.tick)
+
+
+def stop_reason(accumulator, target_error, progress):
+    if accumulator.batches < ESTIMATE_BATCHES:
+        return None
+    if accumulator.batches >= MIN_BATCHES and accumulator.relative_standard_error() <= target_error:
+        return "target"
+    if progress.time_left() <= 0:
+        return "time"
+    return None
+
+
+def render_reference(scene_path, max_seconds=3600.0, target_error=0.002, resolution=None, seed=0,
+                     threads=0, camera=None, show_progress=False) -> Reference:
+    """Renders batches until the image mean's relative standard error is under target_error or
+    max_seconds (0 = no limit) have passed."""
+    from .loader import load_stage
+    loaded = load_stage(scene_path, camera=camera)
+    accumulator = BatchAccumulator()
+    progress = ReferenceProgress(show_progress, max_seconds, target_error)
+    batch_spp, reason = FIRST_BATCH_SPP, None
+    try:
+        for seed_k in batch_seeds(seed):
+            # A batch may be cut short by the time limit; its spp is then what it took, which
+            # keeps it an unbiased batch (the cut does not depend on the samples' values).
+            time_limit = max(progress.time_left(), 1e-6) if max_seconds > 0 else 0.0
+            result = render_batch(loaded, batch_spp, seed_k, threads, time_limit, resolution, progress)
+            if result.spp > 0:
+                accumulator.add(result.color, result.spp)
+                progress.batch_done(accumulator)
+            reason = stop_reason(accumulator, target_error, progress)
+            if reason:
+                break
+            batch_spp = min(batch_spp * 2, MAX_BATCH_SPP)
+    finally:
+        progress.close()
+    return Reference(accumulator.image(), accumulator.samples, accumulator.batches, progress.elapsed(),
+                     accumulator.relative_standard_error(), accumulator.pixel_relative_standard_error(),
+                     reason, loaded.camera_path)
+
+
+# -- the command ---------------------------------------------------------------------------------
+
+def reference_metadata(args, reference):
+    return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": reference.camera_path,
+            "gi:integrator": INTEGRATOR, "gi:params": json.dumps({}), "gi:reference": "1",
+            "gi:spp": str(reference.spp), "gi:seed": str(args.seed), "gi:batches": str(reference.batches),
+            "gi:seconds": f"{reference.seconds:.3f}",
+            "gi:relative_standard_error": f"{reference.relative_standard_error:.6g}",
+            "gi:pixel_relative_standard_error": f"{reference.pixel_relative_standard_error:.6g}",
+            "gi:target_error": f"{args.target_error:g}", "gi:max_seconds": f"{args.max_seconds:g}",
+            "gi:stopped_by": reference.stopped_by,
+            "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
+
+
+def cmd_reference(args):
+    from .cli import require_core
+    if args.target_error <= 0:
+        raise ValueError(f"--target-error must be positive, got {args.target_error}")
+    reference = render_reference(args.scene, args.max_seconds, args.target_error,
+                                 tuple(args.resolution) if args.resolution else None, args.seed,
+                                 args.threads, args.camera, show_progress=sys.stderr.isatty())
+    output = Path(args.output)
+    output.parent.mkdir(parents=True, exist_ok=True)
+    require_core().write_rgb_exr(str(output), reference.color, reference_metadata(args, reference))
+    height, width = reference.color.shape[:2]
+    outcome = "target reached" if reference.stopped_by == "target" else "time limit"
+    print(f"{args.scene}: {width}x{height} reference, {reference.spp} spp in {reference.batches} batches, "
+          f"{reference.seconds:.2f} s; relative standard error of the mean "
+          f"{reference.relative_standard_error:.4g} (target {args.target_error:g}, {outcome}) -> {output}")
+    return 0

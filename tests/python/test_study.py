@@ -1,0 +1,207 @@
+"""`gi reference` and `gi study` end to end on a tiny Cornell box, and the statistics behind them."""
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+
+from conftest import run_gi
+
+BUDGETS = (0.3, 0.6)
+SIZE = (32, 32)
+
+
+def study_integrators():
+    """Two integrators from the registry: the path tracer and the one without indirect light."""
+    from gi import _core
+    names = [info["name"] for info in _core.integrators()]
+    assert "path" in names and "direct" in names, names
+    return ["path", "direct"]
+
+
+def read_meta(path):
+    from gi import _core
+    pixels, meta = _core.read_image(str(path))
+    return pixels, meta
+
+
+@pytest.fixture(scope="module")
+def tiny_study(tmp_path_factory):
+    """A 32x32 reference and a study of two integrators at two budgets, made once for this module."""
+    from conftest import CORNELL
+    folder = tmp_path_factory.mktemp("study")
+    reference = folder / "ref.exr"
+    # A target out of reach, so the time limit decides how good the reference is.
+    run_gi("reference", CORNELL, "-o", reference, "--resolution", *SIZE, "--max-seconds", 2,
+           "--target-error", 1e-6)
+    out = folder / "out"
+    proc = run_gi("study", CORNELL, "--reference", reference, "--integrators", ",".join(study_integrators()),
+                  "--budgets", ",".join(map(str, BUDGETS)), "--resolution", *SIZE, "-o", out)
+    with open(out / "results.csv", newline="") as stream:
+        rows = list(csv.DictReader(stream))
+    return {"out": out, "reference": reference, "rows": rows, "stdout": proc.stdout}
+
+
+def run_rows(tiny_study):
+    return [row for row in tiny_study["rows"] if row["label"] != "reference"]
+
+
+# -- the study's outputs -------------------------------------------------------------------------
+
+def test_study_writes_every_output(tiny_study):
+    from gi.study import RUN_COLUMNS, slug
+    out, rows = tiny_study["out"], tiny_study["rows"]
+    assert set(RUN_COLUMNS) <= set(rows[0])
+    assert [row["label"] for row in rows][0] == "reference"
+    runs = run_rows(tiny_study)
+    assert sorted((row["integrator"], float(row["budget_seconds"])) for row in runs) == \
+        sorted((name, b) for name in study_integrators() for b in BUDGETS)
+    for name in ("error_vs_time.png", "reference.png", "difference_palette.png", "report.md", "report.html"):
+        assert (out / name).stat().st_size > 0, name
+    from matplotlib import image as mpimg
+    assert mpimg.imread(out / "error_vs_time.png").shape[:2] == (450, 1100)
+    for row in runs:
+        name = slug(row["label"])
+        for path in (f"{name}.exr", f"{name}.png", f"{name}_difference.png"):
+            assert (out / "runs" / path).stat().st_size > 0, path
+        difference = mpimg.imread(out / "runs" / f"{name}_difference.png")
+        assert difference.shape[:2] == SIZE
+        # Every difference image uses the palette: black, green, yellow or red mixes, never blue.
+        assert difference[..., 2].max() == 0
+
+
+def test_report_html_is_self_contained_and_lists_every_run(tiny_study):
+    text = (tiny_study["out"] / "report.html").read_text()
+    runs = run_rows(tiny_study)
+    # the plot and the palette, then the reference, the render and the difference for every run
+    assert text.count("data:image/png;base64,") == 2 + 3 * len(runs)
+    assert 'src="runs/' not in text and 'src="reference.png"' not in text
+    for row in runs:
+        assert row["label"] in text
+    assert "Equal time: 0.3 s" in text and "RMSE sRGB8 (0-255) by budget" in text
+    markdown = (tiny_study["out"] / "report.md").read_text()
+    assert all(row["label"] in markdown for row in runs) and "![error against time](error_vs_time.png)" in markdown
+
+
+def test_reference_against_itself_scores_zero(tiny_study):
+    check = tiny_study["rows"][0]
+    assert float(check["rmse_srgb8"]) == 0.0 and float(check["rmse_linear"]) == 0.0
+    assert float(check["relative_mse"]) == 0.0 and float(check["flip"]) == 0.0
+    assert float(check["luminance_ratio"]) == 1.0
+    _, meta = read_meta(tiny_study["reference"])
+    assert check["spp"] == meta["gi:spp"]
+
+
+def test_study_numbers_are_sane(tiny_study):
+    runs = {(row["integrator"], float(row["budget_seconds"])): row for row in run_rows(tiny_study)}
+    for (name, budget), row in runs.items():
+        seconds = float(row["seconds"])
+        # The renderer stops after the pass that crosses the budget, so never before it.
+        assert seconds >= budget, row
+        assert float(row["preprocess_seconds"]) + float(row["render_seconds"]) == pytest.approx(seconds, abs=0.05)
+        assert 0 < float(row["rmse_srgb8"]) < 255 and math.isfinite(float(row["rmse_linear"]))
+        assert 0 <= float(row["flip"]) <= 1 and float(row["peak_memory_mb"]) > 10
+        assert int(row["non_finite_samples"]) == 0
+    for name in study_integrators():
+        assert int(runs[name, BUDGETS[1]]["spp"]) > int(runs[name, BUDGETS[0]]["spp"]), name
+    # The path tracer carries all the light; direct lighting misses the indirect part.
+    for budget in BUDGETS:
+        path, direct = runs["path", budget], runs["direct", budget]
+        assert float(path["luminance_ratio"]) == pytest.approx(1.0, abs=0.05)
+        assert float(direct["luminance_ratio"]) < 0.95
+        assert float(path["rmse_srgb8"]) < float(direct["rmse_srgb8"])
+
+
+def test_study_rejects_a_resolution_other_than_the_references(tiny_study, cornell, tmp_path):
+    proc = run_gi("study", cornell, "--reference", tiny_study["reference"], "--integrators", "path",
+                  "--budgets", "0.1", "--resolution", 16, 16, "-o", tmp_path, check=False)
+    assert proc.returncode == 2 and "does not match the reference's 32x32" in proc.stderr
+
+
+# -- parameter tables ----------------------------------------------------------------------------
+
+def test_params_table_runs_at_fixed_parameters(tiny_study, cornell, tmp_path):
+    from gi import _core
+    from gi.study import check_runs, run_study, table_runs
+    table = {"spp": 2, "runs": [{"label": "PT depth 2", "integrator": "path", "params": {"pathDepth": 2}},
+                                {"integrator": "direct", "spp": 3}]}
+    runs = table_runs(table)
+    check_runs(runs, _core.integrators())
+    study = run_study(cornell, tiny_study["reference"], runs, tmp_path, log=lambda line: None)
+    rows = {row["label"]: row for row in study.rows[1:]}
+    assert rows["PT depth 2"]["spp"] == 2 and json.loads(rows["PT depth 2"]["params"]) == {"pathDepth": 2}
+    assert rows['direct {}']["spp"] == 3 and rows['direct {}']["budget_seconds"] == ""
+    assert "Fixed parameters" in (tmp_path / "report.md").read_text()
+
+
+@pytest.mark.parametrize("entry, message", [
+    ({"integrator": "noSuchIntegrator"}, "unknown integrator"),
+    ({"integrator": "path", "params": {"noSuchParam": 1}}, "has no parameter 'noSuchParam'"),
+    ({"integrator": "path", "params": {"pathDepth": -1}}, "outside"),
+])
+def test_params_table_errors_are_reported(entry, message):
+    from gi import _core
+    from gi.study import check_runs, table_runs
+    with pytest.raises(ValueError, match=message):
+        check_runs(table_runs([entry]), _core.integrators())
+
+
+# -- gi reference --------------------------------------------------------------------------------
+
+def test_reference_writes_spp_time_and_error_estimate(cornell, tmp_path):
+    out = tmp_path / "ref16.exr"
+    proc = run_gi("reference", cornell, "-o", out, "--resolution", 16, 16, "--max-seconds", 0.3)
+    pixels, meta = read_meta(out)
+    assert pixels.shape == (16, 16, 3) and np.isfinite(pixels).all() and pixels.mean() > 0.01
+    assert meta["gi:integrator"] == "path" and int(meta["gi:spp"]) > 0 and int(meta["gi:batches"]) >= 2
+    error, seconds = float(meta["gi:relative_standard_error"]), float(meta["gi:seconds"])
+    assert 0 < error < 1 and math.isfinite(float(meta["gi:pixel_relative_standard_error"]))
+    if meta["gi:stopped_by"] == "target":
+        assert error <= 0.002
+    else:
+        assert meta["gi:stopped_by"] == "time" and 0.3 <= seconds < 3.0
+    assert f"{meta['gi:spp']} spp" in proc.stdout
+
+
+def test_reference_stops_once_the_target_is_reached(cornell, tmp_path):
+    from gi.reference import MIN_BATCHES
+    out = tmp_path / "coarse.exr"
+    run_gi("reference", cornell, "-o", out, "--resolution", 16, 16, "--max-seconds", 60, "--target-error", 0.5)
+    _, meta = read_meta(out)
+    assert meta["gi:stopped_by"] == "target" and int(meta["gi:batches"]) == MIN_BATCHES
+    assert float(meta["gi:relative_standard_error"]) <= 0.5 and float(meta["gi:seconds"]) < 30
+
+
+# -- the reference's statistics ------------------------------------------------------------------
+
+def test_weighted_standard_error_of_two_batches():
+    from gi.reference import weighted_standard_error
+    # Batches 1 and 3 with one sample each: mean 2, spread 2 over 1 degree of freedom, SE sqrt(2/2).
+    mean, error = weighted_standard_error(1.0 + 3.0, 1.0 + 9.0, 2, 2)
+    assert mean == 2.0 and error == pytest.approx(1.0)
+    assert math.isinf(weighted_standard_error(1.0, 1.0, 1, 1)[1])
+
+
+def test_weighted_spread_estimates_the_per_sample_variance_without_bias():
+    from gi.reference import weighted_standard_error
+    rng = np.random.default_rng(7)
+    spp = np.array([1, 2, 4, 8, 16, 16])           # batches of unequal weight, as a reference makes
+    sigma, trials = 0.5, 20000
+    means = rng.normal(3.0, sigma / np.sqrt(spp), size=(trials, spp.size))
+    total = spp.sum()
+    _, error = weighted_standard_error((spp * means).sum(1), (spp * means ** 2).sum(1), total, spp.size)
+    # error^2 = s^2 / N, and s^2 is unbiased for sigma^2.
+    assert np.mean(error ** 2 * total) == pytest.approx(sigma ** 2, rel=0.03)
+
+
+def test_accumulated_image_is_the_spp_weighted_mean():
+    from gi.reference import BatchAccumulator
+    accumulator = BatchAccumulator()
+    accumulator.add(np.full((2, 2, 3), 1.0, np.float32), 1)
+    accumulator.add(np.full((2, 2, 3), 4.0, np.float32), 3)
+    assert accumulator.samples == 4 and accumulator.batches == 2
+    np.testing.assert_allclose(accumulator.image(), 3.25)
+    # Batch means 1 and 4, weights 1 and 3: s^2 = (1 * 2.25^2 + 3 * 0.75^2) / 1, SE = sqrt(s^2 / 4), over 3.25.
+    expected = math.sqrt((2.25 ** 2 + 3 * 0.75 ** 2) / 4) / 3.25
+    assert accumulator.relative_standard_error() == pytest.approx(expected)
