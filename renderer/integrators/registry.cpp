@@ -5,6 +5,8 @@
 #include "direct.h"
 #include "irradiance_cache_integrator.h"
 #include "path.h"
+#include "photon_final_gather.h"
+#include "photon_irradiance_cache.h"
 
 namespace gi {
 
@@ -31,6 +33,31 @@ const ParamInfo kThreshold = ParamInfo{"threshold", "float", 0.02, 0, 1,
                                        "adaptive refinement: relative luminance change that is discernible (2.38)"};
 const ParamInfo kRefinementRounds =
     intParam("refinementRounds", 1000, 0, 100000, "adaptive refinement: most rounds of the refinement queue");
+
+// Photon mapping (thesis 2.4.7, 3.3.4, 3.3.5; 500 000 photons of depth 5 as in tables 4.3-4.15).
+const ParamInfo kPhotons = intParam("photons", 500000, 0, 1e12,
+                                    "photons emitted for the global photon map (more than 2^24 is clamped, with a warning)");
+const ParamInfo kCausticPhotons =
+    intParam("causticPhotons", 500000, 0, 1e12, "photons emitted for the caustic map (L S+ D paths); none without specular surfaces");
+const ParamInfo kPhotonDepth = intParam("photonDepth", 5, 0, 1024, "most reflections of a photon before it is absorbed");
+const ParamInfo kMaxGatherRadius = ParamInfo{"maxGatherRadius", "float", 0, 0, 1e30,
+                                             "largest photon density-estimate radius, scene units; 0 = a tenth of the scene's radius"};
+const ParamInfo kFinalGatherSamples = intParam("finalGatherSamples", 16, 0, 65536, "final-gather rays per shading point");
+const ParamInfo kFinalGatherDepth =
+    intParam("finalGatherDepth", 5, 1, 1024, "most vertices of a final-gather path (specular ones continue it)");
+const ParamInfo kPhotonRecordPaths = intParam(
+    "paths", 120, 1, 65536, "hemisphere paths of a record where photons are too few (path-traced record; thesis: 120)");
+
+PhotonMapSettings photonMapSettings(const IntegratorInfo& info, const ParamSet& p) {
+    PhotonMapSettings s;
+    s.photons = paramValue(info, p, "photons");
+    s.causticPhotons = paramValue(info, p, "causticPhotons");
+    s.photonDepth = int(paramValue(info, p, "photonDepth"));
+    s.gatherPhotons = int(paramValue(info, p, "gatherPhotons"));
+    s.maxGatherRadius = float(paramValue(info, p, "maxGatherRadius"));
+    s.rayDepth = int(paramValue(info, p, "rayDepth"));
+    return s;
+}
 
 IrradianceCacheSettings irradianceCacheSettings(const IntegratorInfo& info, const ParamSet& p) {
     IrradianceCacheSettings s;
@@ -82,6 +109,37 @@ std::vector<IntegratorInfo> buildRegistry() {
         return std::make_unique<AdaptiveIrradianceCacheIntegrator>(irradianceCacheSettings(info, p), refinement);
     };
     list.push_back(adaptive);
+    IntegratorInfo finalGather{
+        "photonMapFinalGather",
+        "photon mapping with final gathering: direct light, caustics from the caustic map, gather rays into the global map",
+        {kPhotons, kCausticPhotons, kPhotonDepth, intParam("gatherPhotons", 50, 2, 100000, "photons per density estimate (k nearest)"),
+         kMaxGatherRadius, kFinalGatherSamples, kFinalGatherDepth, kRayDepth, kLightSamples},
+        nullptr};
+    finalGather.create = [info = finalGather](const ParamSet& p) -> std::unique_ptr<Integrator> {
+        PhotonFinalGatherSettings s;
+        s.photons = photonMapSettings(info, p);
+        s.finalGatherSamples = int(paramValue(info, p, "finalGatherSamples"));
+        s.finalGatherDepth = int(paramValue(info, p, "finalGatherDepth"));
+        s.rayDepth = int(paramValue(info, p, "rayDepth"));
+        s.lightSamples = int(paramValue(info, p, "lightSamples"));
+        return std::make_unique<PhotonMapFinalGatherIntegrator>(s);
+    };
+    list.push_back(finalGather);
+    IntegratorInfo photonCache{
+        "photonMapIrradianceCache",
+        "photon mapping with an irradiance cache whose records are photon-map estimates (path-traced where photons are few)",
+        {kPhotons, kCausticPhotons, kPhotonDepth,
+         intParam("gatherPhotons", 100, 2, 100000, "photons per density estimate (k nearest)"), kMaxGatherRadius,
+         kPhotonRecordPaths, kPathDepth, kRayDepth, kRouletteDepth, kLightSamples, kAccuracy, kMinSpacing, kMaxSpacing},
+        nullptr};
+    photonCache.create = [info = photonCache](const ParamSet& p) -> std::unique_ptr<Integrator> {
+        PhotonIrradianceCacheSettings s;
+        s.photons = photonMapSettings(info, p);
+        s.record = irradianceCacheSettings(info, p).record;
+        s.lightSamples = int(paramValue(info, p, "lightSamples"));
+        return std::make_unique<PhotonMapIrradianceCacheIntegrator>(s);
+    };
+    list.push_back(photonCache);
     return list;
 }
 

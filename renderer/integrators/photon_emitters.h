@@ -1,0 +1,33 @@
+// Which lights emit photons (issue 5: "no photons from lights that reach nothing visible").
+//
+// A pilot pass traces photons from every light in proportion to power and watches where they
+// land. A light that got at least kMinPilotPhotons pilot photons and none of them landed on
+// a surface the render reads (SeenSurfaces) is left out: sealed in a box, facing away from
+// the scene, or lighting only rooms the camera cannot see into. The others keep their
+// power-proportional share, so every photon map is still an unbiased estimate of the light
+// that can reach the image. Lights with fewer pilot photons are kept: too little is known.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "../scene.h"
+#include "seen_surfaces.h"
+
+namespace gi {
+
+struct PhotonEmitters {
+    Distribution1D distribution;  // over scene.lights(); empty when no light emits photons
+    std::vector<int> skipped;     // lights left out
+    int emitting = 0;             // lights with a share of the photons
+    uint32_t pilotPhotons = 0;
+    bool empty() const { return emitting == 0; }
+
+    static constexpr uint32_t kMinPilotPhotons = 64;
+};
+
+// Runs the pilot (pilotPhotons photons of up to maxBounces bounces, on all threads) and
+// warns on the scene about every light it leaves out, and why.
+PhotonEmitters choosePhotonEmitters(const Scene& scene, const SeenSurfaces& seen, uint32_t pilotPhotons,
+                                    int maxBounces, uint32_t seed);
+
+}  // namespace gi

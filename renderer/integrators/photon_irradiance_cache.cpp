@@ -1,0 +1,179 @@
+#include "photon_irradiance_cache.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+
+#include "progressive_fill.h"
+#include "specular_chain.h"
+
+namespace gi {
+
+namespace {
+// Pixel streams of the fill pass use a sample index the render never reaches.
+constexpr uint32_t kFillSampleIndex = 0xfffffff2u;
+}  // namespace
+
+PhotonMapIrradianceCacheIntegrator::PhotonMapIrradianceCacheIntegrator(const PhotonIrradianceCacheSettings& settings)
+    : DirectIntegrator(settings.record.rayDepth, settings.lightSamples),
+      settings_(settings),
+      recordSampler_(settings.record),
+      cache_(settings.record.accuracy) {
+    settings_.photons.globalKeepsDirectAndCaustic = false;
+    settings_.photons.rayDepth = settings.record.rayDepth;
+}
+
+PhotonMapIrradianceCacheIntegrator::Site PhotonMapIrradianceCacheIntegrator::siteOf(const ShadingPoint& sp) const {
+    return Site{RecordSite{sp.si.p, sp.si.ng, recordNormal(sp), sp.wo, footprint_.at(sp.si.p)},
+                photonSurface(sp.si.shapeId, sp.si.instanceId)};
+}
+
+IrradianceRecord PhotonMapIrradianceCacheIntegrator::computeRecord(const Scene& scene, const Site& where,
+                                                                   RayStats& stats, Counters& counters,
+                                                                   bool* pathTraced) const {
+    const int k = settings_.photons.gatherPhotons;
+    const RecordSite& site = where.record;
+    PhotonEstimate estimate =
+        maps_.global.irradiance(PhotonLookup{site.p, site.n, where.surface, &scene}, k, maps_.gatherRadius);
+    if (estimate.photons >= (k + 1) / 2) {
+        const RecordSettings& r = settings_.record;
+        IrradianceRecord record;
+        record.p = site.p;
+        record.n = site.n;
+        record.E = estimate.value;
+        record.footprint = site.footprint;
+        record.radius = std::clamp(0.5f * estimate.radius / r.accuracy, r.minSpacing * site.footprint,
+                                   std::max(r.minSpacing, r.maxSpacing) * site.footprint);
+        record.sigma = luminance(estimate.value) / std::sqrt(float(estimate.photons));
+        counters.photonRecords.fetch_add(1, std::memory_order_relaxed);
+        *pathTraced = false;
+        return record;
+    }
+    counters.pathTracedRecords.fetch_add(1, std::memory_order_relaxed);
+    *pathTraced = true;
+    return recordSampler_.sample(scene, site, seed_, IrradianceRecordSampler::streamKey(site), stats);
+}
+
+bool PhotonMapIrradianceCacheIntegrator::interpolate(const Scene& scene, const Site& site, bool relaxed, Color* E,
+                                                     float* pathTracedShare) const {
+    std::vector<IrradianceCache::Contribution> contributions;
+    cache_.gather(site.record.p, site.record.n, contributions, relaxed);
+    Color weighted(0.0f);
+    float weightSum = 0, pathTracedWeight = 0;
+    for (const IrradianceCache::Contribution& c : contributions) {
+        const IrradianceRecord& record = cache_.record(c.record);
+        const RecordOrigin& origin = recordOrigins_[c.record];
+        if (origin.surface != site.surface &&
+            !clearBetween(scene, site.record.p, site.record.n, record.p, record.n, 0.05f * length(record.p - site.record.p)))
+            continue;
+        weighted += c.E * c.weight;
+        weightSum += c.weight;
+        if (origin.pathTraced) pathTracedWeight += c.weight;
+    }
+    if (!(weightSum > 0)) return false;
+    *E = weighted / weightSum;
+    *pathTracedShare = pathTracedWeight / weightSum;
+    return true;
+}
+
+void PhotonMapIrradianceCacheIntegrator::preprocess(const PreprocessContext& context) {
+    seed_ = context.seed;
+    footprint_ = PixelFootprint::of(context.camera, context.width, context.height);
+    buildPhotonMaps(context, settings_.photons, maps_);
+    if (maps_.global.empty() && settings_.photons.photons > 0)
+        context.scene.warn("photonMapIrradianceCache: the global photon map is empty, so every irradiance record "
+                           "is path traced");
+    auto start = std::chrono::steady_clock::now();
+    cache_.reset(context.scene.bounds().center, context.scene.bounds().radius);
+    recordOrigins_.clear();
+    fillFromPixelCentres(context);
+    fillSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void PhotonMapIrradianceCacheIntegrator::fillFromPixelCentres(const PreprocessContext& context) {
+    PixelPhases phases(context.width, context.height, settings_.record.maxSpacing);
+    for (const std::vector<uint32_t>& pixels : phases.pixelsByPhase()) {
+        if (context.cancel && context.cancel->load()) return;
+        // The non-specular points the ray tracer will shade, per fixed-size chunk of pixels,
+        // concatenated in chunk order: pixel order.
+        constexpr size_t kChunk = 64;
+        std::vector<std::vector<Site>> chunks((pixels.size() + kChunk - 1) / kChunk);
+        tbb::parallel_for(size_t(0), chunks.size(), [&](size_t chunk) {
+            Sampler sampler(seed_);
+            RayStats stats;
+            for (size_t i = chunk * kChunk; i < std::min(pixels.size(), (chunk + 1) * kChunk); ++i) {
+                int x = int(pixels[i] % uint32_t(context.width)), y = int(pixels[i] / uint32_t(context.width));
+                sampler.start(x, y, kFillSampleIndex);
+                Ray ray = context.camera.generateRay(x + 0.5f, y + 0.5f, Vec2(0.5f, 0.5f));
+                forEachDiffuseHit(context.scene, ray, sampler, stats, rayDepth_, [&](const ShadingPoint& sp) {
+                    if (!isBlack(sp.bsdf.diffuseReflectance())) chunks[chunk].push_back(siteOf(sp));
+                });
+            }
+        });
+        std::vector<Site> sites;
+        for (auto& chunk : chunks) sites.insert(sites.end(), chunk.begin(), chunk.end());
+        // Coverage against the cache as the phase found it, records in parallel, inserted in
+        // site order: the cache's content is a function of the seed.
+        std::vector<uint8_t> missing(sites.size(), 0);
+        tbb::parallel_for(size_t(0), sites.size(), [&](size_t i) {
+            Color E;
+            float share;
+            missing[i] = !interpolate(context.scene, sites[i], false, &E, &share);
+        });
+        std::vector<size_t> wanted;
+        for (size_t i = 0; i < sites.size(); ++i)
+            if (missing[i]) wanted.push_back(i);
+        std::vector<IrradianceRecord> records(wanted.size());
+        std::vector<uint8_t> pathTraced(wanted.size(), 0);
+        tbb::parallel_for(size_t(0), wanted.size(), [&](size_t i) {
+            RayStats stats;
+            bool traced = false;
+            records[i] = computeRecord(context.scene, sites[wanted[i]], stats, preprocessRecords_, &traced);
+            pathTraced[i] = traced;
+        });
+        for (size_t i = 0; i < records.size(); ++i) {
+            cache_.insert(records[i]);
+            recordOrigins_.push_back({sites[wanted[i]].surface, pathTraced[i] != 0});
+        }
+    }
+}
+
+Color PhotonMapIrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler,
+                                                   RayStats& stats) const {
+    auto caustics = [&] {
+        if (maps_.caustic.empty()) return Color(0.0f);
+        return maps_.caustic.radiance(sp, scene, settings_.photons.gatherPhotons, maps_.gatherRadius).value;
+    };
+    Color reflectance = sp.bsdf.diffuseReflectance();
+    if (isBlack(reflectance)) return caustics();
+    lookups_.fetch_add(1, std::memory_order_relaxed);
+    Site site = siteOf(sp);
+    Color E;
+    float pathTracedShare = 0;
+    if (!interpolate(scene, site, false, &E, &pathTracedShare) && !interpolate(scene, site, true, &E, &pathTracedShare)) {
+        // Nothing near enough: a record for this sample alone (a photon estimate, or a
+        // path-traced record from a stream keyed by its site), not stored.
+        bool traced = false;
+        E = computeRecord(scene, site, stats, renderRecords_, &traced).E;
+        pathTracedShare = traced ? 1.0f : 0.0f;
+    }
+    Color L = reflectance * E * kInvPi;
+    if (pathTracedShare < 1) L += caustics() * (1 - pathTracedShare);
+    return L;
+}
+
+std::map<std::string, double> PhotonMapIrradianceCacheIntegrator::statistics() const {
+    std::map<std::string, double> stats = maps_.statistics;
+    stats["records"] = double(cache_.size());
+    stats["photonRecords"] = double(preprocessRecords_.photonRecords.load());
+    stats["pathTracedRecords"] = double(preprocessRecords_.pathTracedRecords.load());
+    stats["renderTimeRecords"] =
+        double(renderRecords_.photonRecords.load() + renderRecords_.pathTracedRecords.load());
+    stats["renderTimePathTracedRecords"] = double(renderRecords_.pathTracedRecords.load());
+    stats["lookups"] = double(lookups_.load());
+    stats["cacheBytes"] = double(cache_.memoryBytes());
+    stats["recordFillSeconds"] = fillSeconds_;
+    return stats;
+}
+
+}  // namespace gi

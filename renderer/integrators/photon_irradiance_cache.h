@@ -1,0 +1,92 @@
+// Photon mapping with an irradiance cache (thesis 2.4.7, 3.3.4). The ray tracer's emission,
+// direct light and specular recursion (DirectIntegrator); caustics from the caustic map at
+// every non-specular point; and indirect diffuse light interpolated from an irradiance cache
+// (irradiance_cache.h, Tabellion-Lamorlette weights) whose records are the global photon
+// map's irradiance estimate: "the photon map is used in place of the irradiance cache, and
+// only where there are not enough photons to estimate the irradiance is it computed, by path
+// tracing" (2.4.7). A record needs at least half of gatherPhotons within maxGatherRadius;
+// elsewhere it is a path-traced record (paths, pathDepth) with gradients.
+//
+// The global map holds only photons that have bounced off a non-specular surface: direct
+// light comes from light sampling and caustics from the caustic map. A path-traced record
+// sees caustics too (L S+ D paths through its hemisphere), so the caustic map is added in
+// proportion to the weight of photon records in the interpolation: where path-traced records
+// alone apply, their own (noisier) caustics stand; no caustic is counted twice.
+//
+// A photon record reuses its estimate over half the gather disc's radius (divided by the
+// accuracy k), clamped to [minSpacing, maxSpacing] pixels: the estimate is already an
+// average over that disc. It has no gradients: its neighbours differ only in photon noise.
+//
+// The cache is filled before the render, coarse to fine over the pixel centres
+// (progressive_fill.h), in an order fixed by the pixels; a render-time lookup that finds no
+// record computes one for that sample alone without storing it, so the image does not depend
+// on thread timing.
+#pragma once
+#include <atomic>
+
+#include "direct.h"
+#include "irradiance_cache.h"
+#include "irradiance_record_sampler.h"
+#include "photon_maps.h"
+#include "pixel_footprint.h"
+
+namespace gi {
+
+struct PhotonIrradianceCacheSettings {
+    PhotonMapSettings photons;
+    RecordSettings record;  // the path-traced fallback records, and the spacing limits of all records
+    int lightSamples = 1;
+};
+
+class PhotonMapIrradianceCacheIntegrator : public DirectIntegrator {
+public:
+    explicit PhotonMapIrradianceCacheIntegrator(const PhotonIrradianceCacheSettings& settings);
+    void preprocess(const PreprocessContext& context) override;
+    std::map<std::string, double> statistics() const override;
+
+    const PhotonMaps& maps() const { return maps_; }
+    const IrradianceCache& cache() const { return cache_; }
+
+protected:
+    Color indirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler, RayStats& stats) const override;
+
+private:
+    struct Counters {
+        std::atomic<uint64_t> photonRecords{0}, pathTracedRecords{0};
+    };
+    // A record site and the surface it lies on (for the photon map's visibility guard).
+    struct Site {
+        RecordSite record;
+        uint32_t surface;
+    };
+    Site siteOf(const ShadingPoint& sp) const;
+    // From the photon map where it has enough photons, by path tracing elsewhere (then
+    // *pathTraced is set).
+    IrradianceRecord computeRecord(const Scene& scene, const Site& site, RayStats& stats, Counters& counters,
+                                   bool* pathTraced) const;
+    // The cache's interpolation (2.31) over the records valid at the site that it can see: a
+    // record from another surface counts only with a clear line between the two (the
+    // visibility guard of photon_map.h), so that no record reaches through a thin wall to
+    // the floor on its other side, however small the wall's distance or large the record.
+    // *pathTracedShare: the share of path-traced records in the weights.
+    bool interpolate(const Scene& scene, const Site& site, bool relaxed, Color* E, float* pathTracedShare) const;
+    void fillFromPixelCentres(const PreprocessContext& context);
+
+    PhotonIrradianceCacheSettings settings_;
+    IrradianceRecordSampler recordSampler_;
+    IrradianceCache cache_;
+    struct RecordOrigin {
+        uint32_t surface;  // the surface the record lies on
+        bool pathTraced;
+    };
+    std::vector<RecordOrigin> recordOrigins_;  // per record id
+    PhotonMaps maps_;
+    PixelFootprint footprint_;
+    uint32_t seed_ = 0;
+    double fillSeconds_ = 0;
+    Counters preprocessRecords_;
+    mutable Counters renderRecords_;
+    mutable std::atomic<uint64_t> lookups_{0};
+};
+
+}  // namespace gi

@@ -1,0 +1,96 @@
+#include "photon_map.h"
+
+#include "specular_chain.h"
+
+namespace gi {
+
+PhotonLookup PhotonLookup::at(const ShadingPoint& sp, const Scene& scene) {
+    return PhotonLookup{sp.si.p, recordNormal(sp), photonSurface(sp.si.shapeId, sp.si.instanceId), &scene};
+}
+
+void PhotonMap::gather(const PhotonLookup& at, int k, float maxRadius, std::vector<Neighbour>& out) const {
+    const float stretch = kDiscFlattening * kDiscFlattening - 1;
+    auto discDistance2 = [&](const Vec3& position) {
+        Vec3 d = position - at.p;
+        float along = dot(d, at.n);
+        return lengthSquared(d) + stretch * along * along;
+    };
+    auto agrees = [&](const Photon& photon) { return dot(photon.n(), at.n) >= kPhotonNormalAgreement; };
+    tree_.nearest(at.p, size_t(std::max(k, 1)), maxRadius * maxRadius, discDistance2, agrees, out);
+}
+
+bool clearBetween(const Scene& scene, const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb, float lift) {
+    float scale = lift + 1e-4f * (1 + maxComponent(vmax(vmax(a, -a), vmax(b, -b))));
+    Vec3 from = a + na * scale, d = b + nb * scale - from;
+    float distance = length(d);
+    if (!(distance > 0)) return true;
+    RayStats stats;
+    return !scene.occluded(from, d / distance, distance, stats);
+}
+
+bool PhotonMap::reaches(const Photon& photon, const PhotonLookup& at, float lift) const {
+    if (!at.scene || at.surface == kAnySurface || photon.surface == at.surface) return true;
+    // Lifted by a share of the disc's radius: clears the bumps of a tessellated floor.
+    return clearBetween(*at.scene, at.p, at.n, photon.p, photon.n(), lift);
+}
+
+template <class Weight>
+PhotonEstimate PhotonMap::estimate(const PhotonLookup& at, int k, float maxRadius, Weight&& weight) const {
+    PhotonEstimate e;
+    if (tree_.empty() || k < 2 || !(maxRadius > 0)) return e;
+    std::vector<Neighbour> found;
+    found.reserve(size_t(k));
+    gather(at, k, maxRadius, found);
+    if (found.empty()) return e;
+    float radius2 = maxRadius * maxRadius;
+    size_t first = 0;
+    if (found.size() == size_t(k)) {
+        // The k-th photon (the heap's front) only sets the radius.
+        radius2 = found.front().distance2;
+        first = 1;
+    }
+    if (!(radius2 > 0)) return e;  // k photons on one spot: no area to divide by
+    const float lift = 0.05f * std::sqrt(radius2);
+    Color sum(0.0f);
+    for (size_t i = first; i < found.size(); ++i) {
+        const Photon& photon = tree_[found[i].index];
+        if (!reaches(photon, at, lift)) continue;
+        sum += weight(photon);
+        e.photons++;
+    }
+    e.value = sum / (kPi * radius2);
+    e.radius = std::sqrt(radius2);
+    return e;
+}
+
+PhotonEstimate PhotonMap::irradiance(const PhotonLookup& at, int k, float maxRadius) const {
+    return estimate(at, k, maxRadius, [](const Photon& photon) { return photon.power; });
+}
+
+PhotonEstimate PhotonMap::radiance(const ShadingPoint& sp, const Scene& scene, int k, float maxRadius) const {
+    return estimate(PhotonLookup::at(sp, scene), k, maxRadius, [&](const Photon& photon) {
+        Vec3 wi = sp.frame.toLocal(photon.wi());
+        // A photon that passed the normal test can still sit a hair below this point's
+        // shading hemisphere (neighbouring facets, interpolated normals); mirrored into it,
+        // a Lambertian surface keeps its whole irradiance instead of losing grazing photons.
+        if (sp.woLocal.z * wi.z < 0) wi.z = -wi.z;
+        return sp.bsdf.eval(sp.woLocal, wi) * photon.power;
+    });
+}
+
+bool PhotonMap::nearest(const PhotonLookup& at, float maxRadius, Photon* found) const {
+    std::vector<Neighbour> candidates;
+    candidates.reserve(kNearestCandidates);
+    gather(at, kNearestCandidates, maxRadius, candidates);
+    std::sort(candidates.begin(), candidates.end());
+    for (const Neighbour& candidate : candidates) {
+        const Photon& photon = tree_[candidate.index];
+        if (reaches(photon, at, 0.05f * std::sqrt(candidate.distance2))) {
+            *found = photon;
+            return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace gi

@@ -1,0 +1,93 @@
+// A photon map (thesis 2.4.7): photons in a kd-tree, and the density estimates read from it.
+//
+// The thesis's Sibenik renders came out too bright because photons stored on the outside of
+// thin walls were counted on the inside. Three guards keep a query on its own surface:
+// - a photon counts only if the normal it was stored with (the side it arrived at) agrees
+//   with the query's normal, cos >= kPhotonNormalAgreement: the two faces of a wall face
+//   opposite ways, so no photon crosses it, whatever its thickness;
+// - the search region is a disc, not a sphere (Jensen 2001, 7.2): distance along the normal
+//   counts kDiscFlattening times, so photons on a nearby parallel surface (a step, a shelf)
+//   drop out long before those in the query's plane. The area divided by stays pi r^2, exact
+//   on a plane; on a sphere of radius R it shrinks by (kDiscFlattening^2 - 1) r^2 / (4 R^2),
+//   0.2% at r = R / 20;
+// - a photon that agrees but landed on another surface (the ground outside a wall, level with
+//   the floor inside) counts only if nothing blocks the line between it and the query, both
+//   lifted off their surfaces. At most k shadow rays, and only where surfaces meet: photons
+//   from the query's own surface are never tested. An occluded photon is dropped from the
+//   sum but not from the disc, so the estimate there reads like the edge of a lit area
+//   (slightly dark) rather than the light on the other side.
+//
+// With k photons found the estimate divides the flux of the k - 1 nearest by pi r_k^2:
+// given r_k, the k - 1 inner photons are uniform over the disc, so for locally uniform
+// density this is unbiased, where dividing all k by pi r_k^2 is k / (k - 1) too bright.
+// With fewer than k within maxRadius, all of them over pi maxRadius^2 (a fixed-radius
+// estimate, unbiased too).
+#pragma once
+#include <vector>
+
+#include "kd_tree.h"
+#include "lighting.h"
+#include "photon.h"
+
+namespace gi {
+
+inline constexpr float kPhotonNormalAgreement = 0.9f;  // ~26 degrees
+inline constexpr float kDiscFlattening = 3.0f;
+inline constexpr uint32_t kAnySurface = 0xffffffffu;
+
+// Whether nothing blocks the line between two surface points, both lifted off their surfaces
+// along their normals by `lift` (plus the usual ray offset), so that the line runs through
+// the open space in front of them: clear along a floor, blocked by a wall standing on it.
+bool clearBetween(const Scene& scene, const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb, float lift);
+
+struct PhotonEstimate {
+    Color value{0.0f};
+    int photons = 0;   // photons the estimate used
+    float radius = 0;  // of the disc it covered (maxRadius when fewer than k were found)
+};
+
+// Where light is wanted: a point, the unit normal on the side it is wanted, its surface, and
+// the scene for the visibility guard (none: photons from other surfaces count unchecked).
+struct PhotonLookup {
+    Vec3 p, n;
+    uint32_t surface = kAnySurface;
+    const Scene* scene = nullptr;
+
+    static PhotonLookup at(const ShadingPoint& sp, const Scene& scene);
+};
+
+class PhotonMap {
+public:
+    using Neighbour = KdTree<Photon>::Neighbour;
+
+    void build(std::vector<Photon> photons) { tree_.build(std::move(photons)); }
+    bool empty() const { return tree_.empty(); }
+    size_t size() const { return tree_.size(); }
+    size_t memoryBytes() const { return tree_.memoryBytes(); }
+    const KdTree<Photon>& tree() const { return tree_; }
+
+    // The k nearest photons on the disc around the lookup whose normals agree with it, within
+    // maxRadius (the visibility guard is not applied here).
+    void gather(const PhotonLookup& at, int k, float maxRadius, std::vector<Neighbour>& out) const;
+    // Whether a photon passes the visibility guard of a lookup (lift: how far both ends are
+    // raised off their surfaces).
+    bool reaches(const Photon& photon, const PhotonLookup& at, float lift) const;
+
+    // Irradiance arriving at the lookup.
+    PhotonEstimate irradiance(const PhotonLookup& at, int k, float maxRadius) const;
+    // Radiance that sp's BSDF reflects towards sp.wo: sum of f(wo, wi_p) flux_p over the disc.
+    PhotonEstimate radiance(const ShadingPoint& sp, const Scene& scene, int k, float maxRadius) const;
+    // The nearest photon around the lookup that passes all three guards, among the
+    // kNearestCandidates nearest; false if none does within maxRadius. (For maps of
+    // precomputed irradiance, which keep it in `power`.)
+    bool nearest(const PhotonLookup& at, float maxRadius, Photon* found) const;
+    static constexpr int kNearestCandidates = 4;
+
+private:
+    template <class Weight>
+    PhotonEstimate estimate(const PhotonLookup& at, int k, float maxRadius, Weight&& weight) const;
+
+    KdTree<Photon> tree_;
+};
+
+}  // namespace gi

@@ -1,0 +1,51 @@
+// The two photon maps of thesis 2.4.7, built in an integrator's preprocess step: the global
+// map (photons at every non-specular landing) and the caustic map (L S+ D paths, Jensen's
+// separate, denser map for the bright, sharp light focused by mirrors and glass).
+//
+// What a scene does not need is left out, with a warning that says why: the caustic map when
+// no surface is specular, photons from lights that reach nothing the render reads
+// (photon_emitters.h). A photon count beyond kMaxPhotonsPerMap is clamped, with a warning.
+#pragma once
+#include <map>
+#include <string>
+
+#include "../integrator.h"
+#include "photon_map.h"
+
+namespace gi {
+
+// 2^24 emitted photons: 33 times the thesis's 500 000, and about half a gigabyte of stored
+// photons in a closed, bright room.
+inline constexpr double kMaxPhotonsPerMap = double(1u << 24);
+
+struct PhotonMapSettings {
+    double photons = 500000;         // emitted for the global map
+    double causticPhotons = 500000;  // emitted for the caustic map
+    int photonDepth = 5;             // reflections before absorption
+    int gatherPhotons = 50;          // k of the density estimates
+    float maxGatherRadius = 0;       // 0: a tenth of the scene's bounding radius
+    int rayDepth = 5;                // specular depth of the camera paths that decide which lights matter
+    // Final gathering reads every photon from the global map; the irradiance cache adds the
+    // direct light by light sampling and caustics from the caustic map, so its global map
+    // holds only photons that have bounced off a non-specular surface.
+    bool globalKeepsDirectAndCaustic = true;
+    // Christensen's (2000) precomputed irradiance for final gathering: the global map's
+    // estimate at every kIrradianceStride-th photon, so that a gather ray reads one nearest
+    // photon instead of a k-nearest estimate.
+    bool precomputeIrradiance = false;
+};
+
+inline constexpr uint32_t kIrradianceStride = 4;
+
+struct PhotonMaps {
+    PhotonMap global, caustic;
+    PhotonMap irradiance;  // precomputed (power holds the irradiance); empty unless asked for
+    float gatherRadius = 0;  // maxGatherRadius resolved against the scene
+    std::map<std::string, double> statistics;
+};
+
+// Chooses the emitting lights, traces both passes and builds both kd-trees, all on every
+// thread, deterministically for the context's seed.
+void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& settings, PhotonMaps& maps);
+
+}  // namespace gi

@@ -1,0 +1,91 @@
+#include "photon_tracer.h"
+
+#include <tbb/parallel_for.h>
+
+#include "specular_chain.h"
+
+namespace gi {
+
+int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const PhotonTraceSettings& settings,
+                        RayStats& stats, const PhotonLanding& land) const {
+    if (scene_.lights().empty() || emitters_.size() != int(scene_.lights().size())) return -1;
+    Sampler sampler(seed_);
+    sampler.startStream(stream, index);
+    Vec2 uLight = sampler.get2D(), uPosition = sampler.get2D(), uDirection = sampler.get2D();
+    float pmf = 0;
+    int light = emitters_.sample(uLight.x, &pmf);
+    if (!(pmf > 0)) return -1;
+    PhotonEmission emission = scene_.lights()[light]->emit(uPosition, uDirection, scene_.bounds());
+    Color beta = emission.power / float(double(pmf) * emitted);
+    if (!isFinite(beta) || isBlack(beta) || !isFinite(emission.ray.o) || !isFinite(emission.ray.d)) return light;
+    Ray ray = emission.ray;
+    PhotonPath path = PhotonPath::Direct;
+    for (int bounces = 0;; ++bounces) {
+        // Lights are not in the BVH: a photon that meets one's surface ends there, as a path does.
+        Intersection hit = intersectVisible(scene_, ray, sampler, stats, false);
+        if (hit.kind != Intersection::Kind::Surface) return light;
+        ShadingPoint sp = makeShadingPoint(hit.si, -ray.d);
+        // Stored where a density estimate will read it: surfaces with a non-specular lobe
+        // that reflects anything at all.
+        if (sp.bsdf.hasNonDelta() && !isBlack(sp.bsdf.albedo()) && isFinite(sp.si.p)) {
+            Photon photon;
+            photon.p = sp.si.p;
+            photon.power = beta;
+            photon.normal = octahedral::encode(recordNormal(sp));
+            photon.direction = octahedral::encode(-ray.d);
+            photon.surface = photonSurface(sp.si.shapeId, sp.si.instanceId);
+            land(photon, path, light);
+        }
+        if (bounces >= settings.maxBounces) return light;
+        float uLobe = sampler.get1D();
+        Vec2 u = sampler.get2D();
+        float uSurvival = sampler.get1D();
+        BsdfSample bs = sp.bsdf.sample(sp.woLocal, uLobe, u, TransportMode::Importance);
+        if (!bs.valid) return light;
+        if (settings.causticOnly && !bs.delta) return light;  // no caustic path continues past a diffuse bounce
+        // Russian roulette (2.40-2.42): reflect (diffusely or specularly, as the BSDF chose)
+        // with probability `survival`, absorb otherwise.
+        Color next = beta * bs.weight;
+        float survival = std::min(1.0f, maxComponent(next) / maxComponent(beta));
+        if (!(survival > 0) || uSurvival >= survival) return light;
+        beta = next / survival;
+        if (!isFinite(beta)) return light;
+        if (!bs.delta)
+            path = PhotonPath::Indirect;
+        else if (path == PhotonPath::Direct)
+            path = PhotonPath::Caustic;
+        ray = spawnRay(sp.si, sp.frame.toWorld(bs.wi));
+    }
+}
+
+std::vector<Photon> PhotonTracer::tracePass(uint32_t stream, uint32_t count, const PhotonTraceSettings& settings,
+                                            std::atomic<uint64_t>& rays, const std::atomic<bool>* cancel) const {
+    constexpr uint32_t kChunk = 4096;
+    size_t chunks = (size_t(count) + kChunk - 1) / kChunk;
+    std::vector<std::vector<Photon>> stored(chunks);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks, 1), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t chunk = range.begin(); chunk < range.end(); ++chunk) {
+            if (cancel && cancel->load(std::memory_order_relaxed)) return;
+            std::vector<Photon>& out = stored[chunk];
+            PhotonLanding keep = [&](const Photon& photon, PhotonPath path, int) {
+                if (settings.keeps(path)) out.push_back(photon);
+            };
+            RayStats stats;
+            uint32_t end = uint32_t(std::min<size_t>(count, (chunk + 1) * kChunk));
+            for (uint32_t i = uint32_t(chunk * kChunk); i < end; ++i) trace(stream, i, count, settings, stats, keep);
+            rays.fetch_add(stats.rays, std::memory_order_relaxed);
+        }
+    });
+    // Concatenated in chunk order: photon order, whichever thread traced what.
+    size_t total = 0;
+    for (const auto& chunk : stored) total += chunk.size();
+    std::vector<Photon> photons;
+    photons.reserve(total);
+    for (auto& chunk : stored) {
+        photons.insert(photons.end(), chunk.begin(), chunk.end());
+        std::vector<Photon>().swap(chunk);
+    }
+    return photons;
+}
+
+}  // namespace gi

@@ -1,0 +1,66 @@
+// Photon emission and tracing (thesis 2.4.7, figures 2.24-2.26).
+//
+// Photons leave the lights in proportion to their power (a light is picked by the emitter
+// distribution, then Light::emit picks a point and a direction: cosine-weighted on area
+// lights, from a disc over the scene's bounds for distant and dome lights). At every surface
+// Russian roulette decides between diffuse reflection, specular reflection or refraction
+// and absorption (2.40-2.42): the BSDF picks the lobe with its own lobe probabilities, and
+// the photon survives with probability p = max(beta f cos / pdf) / max(beta), its power
+// divided by p. For a Lambertian surface of albedo rho that is p_d = max(rho) and absorption
+// 1 - max(rho), as in the thesis, and a photon keeps (nearly) its power whatever it meets,
+// which is what makes density estimates from it low in noise.
+//
+// Photon i of a pass uses sample i of the pass's sampler stream, so the photons, and the maps
+// built from them, depend only on the seed, never on the thread that traced them.
+#pragma once
+#include <atomic>
+#include <functional>
+#include <vector>
+
+#include "lighting.h"
+#include "path.h"
+#include "photon.h"
+
+namespace gi {
+
+// What a photon's path did before it landed: nothing (direct light), only specular (delta)
+// bounces (a caustic, L S+ D), or at least one non-specular bounce (indirect light).
+enum class PhotonPath : uint8_t { Direct, Caustic, Indirect };
+
+struct PhotonTraceSettings {
+    int maxBounces = 5;        // the thesis's "photon depth": reflections before absorption
+    bool causticOnly = false;  // end a path at its first non-specular bounce (the caustic pass)
+    // Which landings tracePass keeps.
+    bool keepDirect = true, keepCaustic = true, keepIndirect = true;
+    bool keeps(PhotonPath path) const {
+        return path == PhotonPath::Direct ? keepDirect : (path == PhotonPath::Caustic ? keepCaustic : keepIndirect);
+    }
+};
+
+// Called at every landing with the photon, its path so far and the light that emitted it.
+using PhotonLanding = std::function<void(const Photon&, PhotonPath, int light)>;
+
+class PhotonTracer {
+public:
+    // `emitters`: a distribution over scene.lights() (zero for lights that emit none).
+    PhotonTracer(const Scene& scene, const Distribution1D& emitters, uint32_t seed)
+        : scene_(scene), emitters_(emitters), seed_(seed) {}
+
+    // Traces photon `index` of `stream`, one of `emitted` photons of its pass. Calls
+    // land(photon, path, light) at every non-specular surface with a non-black BSDF it
+    // reaches. Returns the light that emitted it, or -1 if none could.
+    int trace(uint32_t stream, uint32_t index, double emitted, const PhotonTraceSettings& settings, RayStats& stats,
+               const PhotonLanding& land) const;
+
+    // Traces photons [0, count) of `stream` on all threads and returns the landings that
+    // settings.keeps(), in photon order. Stops early (between chunks) when cancelled.
+    std::vector<Photon> tracePass(uint32_t stream, uint32_t count, const PhotonTraceSettings& settings,
+                                  std::atomic<uint64_t>& rays, const std::atomic<bool>* cancel) const;
+
+private:
+    const Scene& scene_;
+    const Distribution1D& emitters_;
+    uint32_t seed_;
+};
+
+}  // namespace gi

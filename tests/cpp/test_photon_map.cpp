@@ -1,0 +1,513 @@
+// Photon mapping (thesis 2.4.7, 3.3.4, 3.3.5): the kd-tree against brute force, the density
+// estimate and its leak guards, and both integrators on scenes with a known answer: a thin
+// wall whose dark side must stay dark, lights that reach nothing, an absurd photon count,
+// a glass sphere's caustic against the path tracer, and determinism across thread counts.
+// (The white furnace is in test_integrators.cpp.)
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "renderer/integrators/kd_tree.h"
+#include "renderer/integrators/photon_final_gather.h"
+#include "renderer/integrators/photon_map.h"
+#include "scenes.h"
+
+using namespace gi;
+using namespace gi::test;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// The kd-tree
+
+struct Point {
+    Vec3 p;
+    uint32_t id;
+};
+
+std::vector<Point> randomPoints(size_t n, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<Point> points;
+    for (size_t i = 0; i < n; ++i) {
+        if (i % 5 == 0 && i > 0) {  // duplicates and tight clusters: ties and zero-size cells
+            Point q = points[rng() % points.size()];
+            if (i % 10 == 0) q.p += Vec3(u(rng), u(rng), u(rng)) * 1e-4f;
+            points.push_back({q.p, uint32_t(i)});
+            continue;
+        }
+        points.push_back({Vec3(u(rng), u(rng) * 0.5f, u(rng) * 0.1f), uint32_t(i)});  // flattened, like photons
+    }
+    return points;
+}
+
+// Squared distances of the k nearest (under `metric`, among accepted points, below maxD2), sorted.
+template <class Metric, class Accept>
+std::vector<float> bruteForceNearest(const std::vector<Point>& points, size_t k, float maxD2, Metric metric, Accept accept) {
+    std::vector<float> d2;
+    for (const Point& p : points) {
+        float d = metric(p.p);
+        if (d < maxD2 && accept(p)) d2.push_back(d);
+    }
+    std::sort(d2.begin(), d2.end());
+    if (d2.size() > k) d2.resize(k);
+    return d2;
+}
+
+std::vector<float> sortedDistances(std::vector<KdTree<Point>::Neighbour> found) {
+    std::vector<float> d2;
+    for (auto& n : found) d2.push_back(n.distance2);
+    std::sort(d2.begin(), d2.end());
+    return d2;
+}
+
+TEST(KdTree, NearestMatchesBruteForce) {
+    std::vector<Point> points = randomPoints(10000, 1);
+    KdTree<Point> tree;
+    tree.build(points);
+    ASSERT_EQ(tree.size(), points.size());
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<float> u(-1.2f, 1.2f);
+    std::vector<KdTree<Point>::Neighbour> found;
+    for (int query = 0; query < 150; ++query) {
+        Vec3 q(u(rng), u(rng) * 0.5f, u(rng) * 0.1f);
+        if (query % 3 == 0) q = points[rng() % points.size()].p;  // on a point (and its duplicates)
+        for (size_t k : {size_t(1), size_t(7), size_t(50), size_t(400)})
+            for (float maxD2 : {1e30f, 0.01f, 1e-6f}) {
+                tree.nearest(q, k, maxD2, found);
+                auto expected = bruteForceNearest(points, k, maxD2, [&](const Vec3& p) { return lengthSquared(p - q); },
+                                                  [](const Point&) { return true; });
+                ASSERT_EQ(sortedDistances(found), expected) << "query " << query << " k " << k << " maxD2 " << maxD2;
+                // Each reported distance is the item's own.
+                for (auto& n : found) ASSERT_EQ(n.distance2, lengthSquared(tree[n.index].p - q));
+            }
+    }
+}
+
+TEST(KdTree, DiscMetricAndFilterMatchBruteForce) {
+    std::vector<Point> points = randomPoints(20000, 3);
+    KdTree<Point> tree;
+    tree.build(points);
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<KdTree<Point>::Neighbour> found;
+    for (int query = 0; query < 200; ++query) {
+        Vec3 q(u(rng), u(rng) * 0.5f, u(rng) * 0.1f);
+        Vec3 n = normalize(Vec3(u(rng), u(rng), u(rng)));
+        auto metric = [&](const Vec3& p) {
+            Vec3 d = p - q;
+            return lengthSquared(d) + 8 * dot(d, n) * dot(d, n);
+        };
+        auto accept = [](const Point& p) { return p.id % 3 != 0; };
+        tree.nearest(q, 50, 0.05f, metric, accept, found);
+        ASSERT_EQ(sortedDistances(found), bruteForceNearest(points, 50, 0.05f, metric, accept)) << "query " << query;
+    }
+}
+
+TEST(KdTree, RadiusQueryMatchesBruteForce) {
+    std::vector<Point> points = randomPoints(20000, 5);
+    KdTree<Point> tree;
+    tree.build(points);
+    std::mt19937 rng(6);
+    std::uniform_real_distribution<float> u(-1, 1);
+    for (int query = 0; query < 200; ++query) {
+        Vec3 q(u(rng), u(rng) * 0.5f, u(rng) * 0.1f);
+        float r2 = query % 2 ? 0.002f : 0.05f;
+        std::vector<uint32_t> found, expected;
+        tree.forEachWithin(q, r2, [&](const Point& p, uint32_t, float d2) {
+            EXPECT_EQ(d2, lengthSquared(p.p - q));
+            found.push_back(p.id);
+        });
+        for (const Point& p : points)
+            if (lengthSquared(p.p - q) < r2) expected.push_back(p.id);
+        std::sort(found.begin(), found.end());
+        ASSERT_EQ(found, expected) << "query " << query;
+    }
+}
+
+TEST(KdTree, EmptySingleAndIdenticalPoints) {
+    KdTree<Point> tree;
+    std::vector<KdTree<Point>::Neighbour> found;
+    tree.build({});
+    tree.nearest(Vec3(0.0f), 5, 1e30f, found);
+    EXPECT_TRUE(found.empty());
+    tree.build({{Vec3(1, 2, 3), 0}});
+    tree.nearest(Vec3(0.0f), 5, 1e30f, found);
+    ASSERT_EQ(found.size(), 1u);
+    std::vector<Point> same(1000, Point{Vec3(0.5f), 0});
+    tree.build(same);
+    tree.nearest(Vec3(0.5f), 10, 1e30f, found);
+    EXPECT_EQ(found.size(), 10u);
+    size_t within = 0;
+    tree.forEachWithin(Vec3(0.5f), 1e-6f, [&](const Point&, uint32_t, float) { ++within; });
+    EXPECT_EQ(within, 1000u);
+}
+
+TEST(Photon, DirectionsSurviveTheirPacking) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<Vec3> directions = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+    for (int i = 0; i < 10000; ++i) directions.push_back(normalize(Vec3(u(rng), u(rng), u(rng))));
+    for (const Vec3& d : directions) EXPECT_GT(dot(octahedral::decode(octahedral::encode(d)), d), 0.99999f) << d.x << " " << d.y << " " << d.z;
+}
+
+// ---------------------------------------------------------------------------------------
+// Density estimates
+
+// Photons of total flux `flux` uniform over the square [-1,1]^2 at height z, normal +-z.
+std::vector<Photon> photonSheet(size_t n, float z, Vec3 normal, float flux, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<Photon> photons(n);
+    for (Photon& p : photons) {
+        p.p = Vec3(u(rng), u(rng), z);
+        p.power = Color(flux / float(n));
+        p.normal = octahedral::encode(normal);
+        p.direction = octahedral::encode(normal);
+        p.surface = 0;
+    }
+    return photons;
+}
+
+TEST(PhotonMapEstimate, IrradianceIsUnbiasedOnAPlane) {
+    // Irradiance = flux / area = 4 / 4 = 1. Dividing all k photons by pi r_k^2 would read
+    // k / (k - 1) = 1.11 for k = 10; the k - 1 estimate reads 1.
+    PhotonMap map;
+    map.build(photonSheet(200000, 0, Vec3(0, 0, 1), 4, 1));
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<float> u(-0.8f, 0.8f);
+    for (int k : {10, 100}) {
+        double sum = 0;
+        const int queries = 20000;
+        for (int i = 0; i < queries; ++i) sum += map.irradiance({Vec3(u(rng), u(rng), 0), Vec3(0, 0, 1)}, k, 1).value.x;
+        EXPECT_NEAR(sum / queries, 1.0, 0.01) << "k = " << k;
+    }
+    // Fewer than k within maxRadius: the fixed-radius estimate over pi maxRadius^2.
+    PhotonEstimate sparse = map.irradiance({Vec3(0.0f), Vec3(0, 0, 1)}, 100000, 0.05f);
+    EXPECT_LT(sparse.photons, 100000);
+    EXPECT_NEAR(sparse.value.x, 1.0, 0.1);
+    EXPECT_EQ(sparse.radius, 0.05f);
+}
+
+TEST(PhotonMapEstimate, PhotonsOnTheOtherSideOfAThinWallDoNotCount) {
+    // A wall 1 mm thick: the lit face at z = +0.0005 (normal +z) holds every photon; a query
+    // on the dark face at z = -0.0005 looks along -z. A spherical search of any radius
+    // would find the lit photons; the normal guard finds none.
+    PhotonMap map;
+    map.build(photonSheet(100000, 0.0005f, Vec3(0, 0, 1), 4, 3));
+    PhotonEstimate dark = map.irradiance({Vec3(0.1f, 0.2f, -0.0005f), Vec3(0, 0, -1)}, 50, 0.5f);
+    EXPECT_EQ(dark.photons, 0);
+    EXPECT_EQ(dark.value.x, 0.0f);
+    PhotonEstimate lit = map.irradiance({Vec3(0.1f, 0.2f, 0.0005f), Vec3(0, 0, 1)}, 50, 0.5f);
+    EXPECT_NEAR(lit.value.x, 1.0, 0.3);
+}
+
+TEST(PhotonMapEstimate, DiscKernelKeepsAParallelSurfaceOut) {
+    // A floor (z = 0, irradiance 1) under a shelf 0.01 above it whose top (same normal) is
+    // 100 times brighter. With k chosen so the floor's disc radius is about 0.015, a sphere
+    // would reach the shelf; the disc (3:1) reaches 0.005 along the normal and does not.
+    std::vector<Photon> photons = photonSheet(200000, 0, Vec3(0, 0, 1), 4, 4);
+    std::vector<Photon> shelf = photonSheet(200000, 0.01f, Vec3(0, 0, 1), 400, 5);
+    photons.insert(photons.end(), shelf.begin(), shelf.end());
+    PhotonMap map;
+    map.build(photons);
+    std::mt19937 rng(6);
+    std::uniform_real_distribution<float> u(-0.8f, 0.8f);
+    double sum = 0;
+    const int queries = 2000;
+    for (int i = 0; i < queries; ++i) {
+        PhotonEstimate e = map.irradiance({Vec3(u(rng), u(rng), 0), Vec3(0, 0, 1)}, 40, 1);
+        ASSERT_LT(e.radius, 0.03f);
+        sum += e.value.x;
+    }
+    EXPECT_NEAR(sum / queries, 1.0, 0.03);
+}
+
+// ---------------------------------------------------------------------------------------
+// Rendering
+
+Mat4 lookAlong(Vec3 eye, Vec3 forward, Vec3 up = Vec3(0, 1, 0)) {
+    Vec3 f = normalize(forward), r = normalize(cross(f, up)), u = cross(r, f);
+    Mat4 m;
+    Vec3 rows[4] = {r, u, -f, eye};
+    for (int i = 0; i < 4; ++i) m.m[i][0] = rows[i].x, m.m[i][1] = rows[i].y, m.m[i][2] = rows[i].z;
+    return m;
+}
+
+// A rect light of the given size at `center`, emitting along `direction`.
+LightDesc rectLight(const char* name, Vec3 center, Vec3 direction, float size, float intensity) {
+    LightDesc light;
+    light.name = name;
+    light.kind = "rect";
+    light.width = light.height = size;
+    light.intensity = intensity;
+    Vec3 up = std::fabs(normalize(direction).y) > 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    light.transform = lookAlong(center, direction, up);  // a rect light emits along its -Z
+    return light;
+}
+
+struct Render {
+    std::vector<float> rgb;
+    RenderStats stats;
+    std::vector<std::string> warnings;
+};
+
+Render render(Scene& scene, const std::string& integrator, int size, int spp, std::map<std::string, double> params,
+              int threads = 0, uint32_t seed = 1) {
+    scene.commit();
+    RenderSettings settings;
+    settings.width = settings.height = size;
+    settings.spp = spp;
+    settings.integrator = integrator;
+    settings.seed = seed;
+    settings.threads = threads;
+    for (auto& [k, v] : params) settings.params.set(k, v);
+    Renderer renderer(scene, settings);
+    renderer.render();
+    return {renderer.film().color(), renderer.stats(), scene.warnings()};
+}
+
+bool allFinite(const std::vector<float>& rgb) {
+    return std::all_of(rgb.begin(), rgb.end(), [](float v) { return std::isfinite(v) && v >= 0; });
+}
+
+bool warned(const Render& r, const std::string& text) {
+    return std::any_of(r.warnings.begin(), r.warnings.end(), [&](const std::string& w) { return w.find(text) != std::string::npos; });
+}
+
+const char* const kPhotonIntegrators[] = {"photonMapFinalGather", "photonMapIrradianceCache"};
+
+// Two rooms side by side, open towards the camera, parted by a wall 1 mm thick (x = 0); a
+// light under the left room's ceiling. Each room has its own floor, ceiling and back wall,
+// level with the other room's: photons on the left lie 1 mm from the right room's wall and
+// floor. No light reaches the right room (what leaves the left one through the open front
+// never comes back), so every pixel that sees into it must be black.
+void buildThinWallScene(Scene& scene) {
+    int white = scene.addMaterial(lambert(Color(0.8f)));
+    const float t = 0.0005f;
+    for (float side : {-1.0f, 1.0f}) {
+        float inner = side * t, outer = side;
+        auto quad = [&](const char* name, Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+            std::string full = std::string(side < 0 ? "/Left" : "/Right") + name;
+            addQuad(scene, full.c_str(), a, b, c, d, white);
+        };
+        quad("/Floor", {inner, 0, -1}, {inner, 0, 1}, {outer, 0, 1}, {outer, 0, -1});
+        quad("/Ceiling", {inner, 1, -1}, {outer, 1, -1}, {outer, 1, 1}, {inner, 1, 1});
+        quad("/Back", {inner, 0, -1}, {outer, 0, -1}, {outer, 1, -1}, {inner, 1, -1});
+        quad("/Side", {outer, 0, -1}, {outer, 0, 1}, {outer, 1, 1}, {outer, 1, -1});
+        quad("/Partition", {inner, 0, -1}, {inner, 1, -1}, {inner, 1, 1}, {inner, 0, 1});
+    }
+    addQuad(scene, "/PartitionEdge", {-t, 0, 1}, {t, 0, 1}, {t, 1, 1}, {-t, 1, 1}, white);
+    scene.addLight(rectLight("/Light", Vec3(-0.5f, 0.99f, -0.2f), Vec3(0, -1, 0), 0.3f, 20));
+    CameraDesc camera;
+    camera.name = "/Camera";
+    camera.focalLength = 28;
+    camera.transform = lookAlong(Vec3(0, 0.5f, 4), Vec3(0, 0, -1));
+    scene.setCamera(camera);
+}
+
+// Pixels whose whole footprint sees one room: 1 = the lit (left) one, -1 = the dark one, 0 = other.
+std::vector<int> classifyThinWallPixels(const Scene& scene, int size) {
+    Camera camera(scene.cameraDesc(), size, size);
+    auto side = [&](float x, float y) {
+        RayStats stats;
+        Intersection hit = scene.intersect(camera.generateRay(x, y, Vec2(0.5f, 0.5f)), stats, true);
+        if (hit.kind != Intersection::Kind::Surface || hit.si.p.z > 0.999f) return 0;
+        return hit.si.p.x < -0.001f ? 1 : (hit.si.p.x > 0.001f ? -1 : 0);
+    };
+    std::vector<int> classes(size * size);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            int c = side(x + 0.02f, y + 0.02f);
+            for (Vec2 corner : {Vec2(0.98f, 0.02f), Vec2(0.02f, 0.98f), Vec2(0.98f, 0.98f), Vec2(0.5f, 0.5f)})
+                if (side(x + corner.x, y + corner.y) != c) c = 0;
+            classes[y * size + x] = c;
+        }
+    return classes;
+}
+
+TEST(PhotonMapRender, ThinWallKeepsTheDarkSideDark) {
+    const int size = 32;
+    for (const char* integrator : kPhotonIntegrators) {
+        Scene scene;
+        buildThinWallScene(scene);
+        Render r = render(scene, integrator, size, 8, {{"photons", 100000}});
+        ASSERT_TRUE(allFinite(r.rgb)) << integrator;
+        std::vector<int> classes = classifyThinWallPixels(scene, size);
+        double lit = 0, dark = 0;
+        int litPixels = 0, darkPixels = 0;
+        for (int i = 0; i < size * size; ++i) {
+            double y = luminance(Color(r.rgb[3 * i], r.rgb[3 * i + 1], r.rgb[3 * i + 2]));
+            if (classes[i] == 1) lit += y, ++litPixels;
+            if (classes[i] == -1) dark += y, ++darkPixels;
+        }
+        ASSERT_GT(litPixels, 100);
+        ASSERT_GT(darkPixels, 100);
+        EXPECT_EQ(r.stats.integrator.at("photonLightsSkipped"), 0) << integrator;
+        EXPECT_GT(r.stats.integrator.at("globalMapPhotons"), 10000) << integrator;
+        EXPECT_GT(lit / litPixels, 0.1) << integrator;
+        EXPECT_EQ(dark, 0.0) << integrator << ": light leaked into the dark room, mean " << dark / darkPixels;
+    }
+}
+
+// A rect light over a floor, facing up (and hidden from the camera): no photon lands anywhere.
+TEST(PhotonMapRender, LightFacingAwayStoresNoPhotons) {
+    for (const char* integrator : kPhotonIntegrators) {
+        Scene scene;
+        int white = scene.addMaterial(lambert(Color(0.8f)));
+        addQuad(scene, "/Floor", {-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, white);
+        LightDesc light = rectLight("/Light", Vec3(0, 1, 0), Vec3(0, 1, 0), 0.5f, 10);
+        light.visibleToCamera = false;
+        scene.addLight(light);
+        scene.setCamera(lookingDown({0, 3, 0}, true, 30));
+        Render r = render(scene, integrator, 8, 4, {{"photons", 20000}});
+        EXPECT_TRUE(allFinite(r.rgb)) << integrator;
+        EXPECT_EQ(channelMean(r.rgb, 1), 0.0) << integrator;
+        EXPECT_EQ(r.stats.integrator.at("photonLightsSkipped"), 1) << integrator;
+        EXPECT_EQ(r.stats.integrator.at("globalMapPhotons"), 0) << integrator;
+        EXPECT_TRUE(warned(r, "none of")) << integrator;
+        EXPECT_TRUE(warned(r, "no light reaches")) << integrator;
+    }
+}
+
+// A sphere light sealed in a closed box on a floor lit by the sun: the box's light is left
+// out of the photon maps, the sun's photons are all there, and the image matches the same
+// scene without the box's light (which cannot reach the image).
+void buildSealedBox(Scene& scene, bool withBoxLight) {
+    int white = scene.addMaterial(lambert(Color(0.7f)));
+    addQuad(scene, "/Floor", {-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, white);
+    const Vec3 lo(-0.5f, 0.01f, -0.5f), hi(0.5f, 1, 0.5f);
+    addQuad(scene, "/Box/Bottom", {lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, lo.y, hi.z}, {lo.x, lo.y, hi.z}, white);
+    addQuad(scene, "/Box/Top", {lo.x, hi.y, lo.z}, {lo.x, hi.y, hi.z}, {hi.x, hi.y, hi.z}, {hi.x, hi.y, lo.z}, white);
+    addQuad(scene, "/Box/Front", {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z}, {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}, white);
+    addQuad(scene, "/Box/Back", {lo.x, lo.y, lo.z}, {lo.x, hi.y, lo.z}, {hi.x, hi.y, lo.z}, {hi.x, lo.y, lo.z}, white);
+    addQuad(scene, "/Box/Left", {lo.x, lo.y, lo.z}, {lo.x, lo.y, hi.z}, {lo.x, hi.y, hi.z}, {lo.x, hi.y, lo.z}, white);
+    addQuad(scene, "/Box/Right", {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z}, {hi.x, hi.y, hi.z}, {hi.x, lo.y, hi.z}, white);
+    if (withBoxLight) {
+        LightDesc bulb;
+        bulb.name = "/Box/Bulb";
+        bulb.kind = "sphere";
+        bulb.radius = 0.1f;
+        bulb.intensity = 50;
+        bulb.transform.m[3][1] = 0.5f;
+        scene.addLight(bulb);
+    }
+    scene.addLight(rectLight("/Sky", Vec3(1, 4, 1), Vec3(-0.2f, -1, -0.2f), 2, 3));
+    CameraDesc camera;
+    camera.name = "/Camera";
+    camera.focalLength = 20;
+    camera.transform = lookAlong(Vec3(2.5f, 2.5f, 3.5f), Vec3(-2.5f, -2.2f, -3.5f));
+    scene.setCamera(camera);
+}
+
+TEST(PhotonMapRender, LightSealedInABoxEmitsNoPhotons) {
+    for (const char* integrator : kPhotonIntegrators) {
+        Scene sealed, open;
+        buildSealedBox(sealed, true);
+        buildSealedBox(open, false);
+        std::map<std::string, double> params = {{"photons", 50000}, {"lightSamples", 4}};
+        Render withBulb = render(sealed, integrator, 24, 16, params);
+        Render without = render(open, integrator, 24, 16, params);
+        ASSERT_TRUE(allFinite(withBulb.rgb)) << integrator;
+        EXPECT_EQ(withBulb.stats.integrator.at("photonLightsSkipped"), 1) << integrator;
+        EXPECT_TRUE(warned(withBulb, "/Box/Bulb")) << integrator;
+        // The photon maps are the very same: the skipped light takes no share of the photons.
+        EXPECT_EQ(withBulb.stats.integrator.at("globalMapPhotons"), without.stats.integrator.at("globalMapPhotons"));
+        // Light sampling still picks the bulb now and then (and finds it occluded): noise, not bias.
+        double a = channelMean(withBulb.rgb, 1), b = channelMean(without.rgb, 1);
+        EXPECT_NEAR(a, b, 0.05 * b) << integrator;
+    }
+}
+
+TEST(PhotonMapRender, AbsurdPhotonCountIsClampedWithAWarning) {
+    // The light is far above a small floor, so nearly all of the 2^24 photons miss it: the
+    // clamp is exercised in full at the cost of some 17 million cheap rays.
+    Scene scene;
+    int white = scene.addMaterial(lambert(Color(0.5f)));
+    addQuad(scene, "/Floor", {-0.5f, 0, -0.5f}, {-0.5f, 0, 0.5f}, {0.5f, 0, 0.5f}, {0.5f, 0, -0.5f}, white);
+    scene.addLight(rectLight("/Light", Vec3(0, 30, 0), Vec3(0, -1, 0), 0.5f, 20000));
+    scene.setCamera(lookingDown({0, 2, 0}, true, 10));
+    Render r = render(scene, "photonMapFinalGather", 8, 2, {{"photons", 1e12}, {"photonDepth", 0}, {"finalGatherSamples", 1}});
+    EXPECT_TRUE(allFinite(r.rgb));
+    EXPECT_TRUE(warned(r, "clamped to 16777216"));
+    EXPECT_EQ(r.stats.integrator.at("photonsEmitted"), kMaxPhotonsPerMap);
+    EXPECT_GT(channelMean(r.rgb, 0), 0);
+}
+
+// A coloured glass sphere over a white floor under a big light: the floor under the sphere
+// carries the caustic. Photon mapping with final gathering must put the same energy there as
+// the path tracer (which finds the caustic by BSDF sampling through the glass).
+TEST(PhotonMapRender, ColouredCausticMatchesThePathTracer) {
+    auto build = [](Scene& scene) {
+        int white = scene.addMaterial(lambert(Color(0.8f)));
+        MaterialDesc glass;
+        glass.name = "glass";
+        glass.diffuseColor = Color(1.0f, 0.6f, 0.3f);  // the dielectric's transmission tint
+        glass.opacity = 0;
+        glass.roughness = 0;
+        glass.ior = 1.5f;
+        int g = scene.addMaterial(glass);
+        addQuad(scene, "/Floor", {-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, white);
+        scene.addSphere("/Ball", Vec3(0, 0.5f, 0), 0.3f, g, nullptr, -1);
+        scene.addLight(rectLight("/Light", Vec3(0, 3, 0), Vec3(0, -1, 0), 0.6f, 60));
+        // Looking at the floor under the ball from the side, past the ball.
+        CameraDesc camera;
+        camera.name = "/Camera";
+        camera.projection = "orthographic";
+        camera.horizontalAperture = camera.verticalAperture = 5;  // tenths of a unit: 0.5 x 0.5
+        camera.transform = lookAlong(Vec3(0, 2, 2), Vec3(0, -1, -1));
+        scene.setCamera(camera);
+    };
+    Scene a, b;
+    build(a);
+    build(b);
+    Render photons = render(a, "photonMapFinalGather", 16, 16, {{"causticPhotons", 1000000}, {"photons", 100000}});
+    Render path = render(b, "path", 16, 1024, {{"pathDepth", 5}});
+    ASSERT_TRUE(allFinite(photons.rgb));
+    EXPECT_GT(photons.stats.integrator.at("causticMapPhotons"), 10000);
+    for (int c = 0; c < 3; ++c) {
+        double p = channelMean(photons.rgb, c), reference = channelMean(path.rgb, c);
+        EXPECT_NEAR(p, reference, 0.1 * reference) << "channel " << c;
+    }
+    // The caustic is coloured by the glass: less blue than red.
+    EXPECT_LT(channelMean(photons.rgb, 2), 0.8 * channelMean(photons.rgb, 0));
+}
+
+TEST(PhotonMapRender, SameImageWhateverTheThreadCount) {
+    for (const char* integrator : kPhotonIntegrators) {
+        auto once = [&](int threads) {
+            Scene scene;
+            buildThinWallScene(scene);
+            return render(scene, integrator, 16, 2, {{"photons", 20000}, {"finalGatherSamples", 4}, {"paths", 16}}, threads).rgb;
+        };
+        std::vector<float> first = once(0);
+        EXPECT_EQ(first, once(0)) << integrator;
+        EXPECT_EQ(first, once(1)) << integrator;
+    }
+}
+
+TEST(PhotonMapRegistry, BothIntegratorsReflectTheirParameters) {
+    for (const char* integrator : kPhotonIntegrators) {
+        const IntegratorInfo* info = findIntegrator(integrator);
+        ASSERT_NE(info, nullptr) << integrator;
+        std::vector<std::string> names;
+        for (const ParamInfo& p : info->params) names.push_back(p.name);
+        for (const char* name : {"photons", "causticPhotons", "photonDepth", "gatherPhotons", "maxGatherRadius", "rayDepth"})
+            EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << integrator << " " << name;
+        ParamSet p;
+        p.set("photons", 1e12);  // passed through: the integrator clamps it and says so
+        EXPECT_EQ(paramValue(*info, p, "photons"), 1e12);
+    }
+    const IntegratorInfo* fg = findIntegrator("photonMapFinalGather");
+    for (const char* name : {"finalGatherSamples", "finalGatherDepth"}) {
+        bool found = false;
+        for (const ParamInfo& p : fg->params) found = found || p.name == name;
+        EXPECT_TRUE(found) << name;
+    }
+    const IntegratorInfo* ic = findIntegrator("photonMapIrradianceCache");
+    ParamSet none;
+    EXPECT_EQ(paramValue(*ic, none, "paths"), 120);  // thesis table 4.3
+    EXPECT_EQ(paramValue(*ic, none, "photons"), 500000);
+}
+
+}  // namespace
