@@ -50,7 +50,8 @@ def measure(scene_path, spp, resolution, threads):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("scenes", nargs="*", type=Path, default=[ROOT / "scenes/cornell/cornell.usda"])
+    parser.add_argument("scenes", nargs="*", type=Path, default=sorted(ROOT.glob("scenes/*/*.usda")),
+                        help="USD scenes (default: every scenes/*/*.usda)")
     parser.add_argument("--spp", type=int, default=16)
     parser.add_argument("--resolution", type=int, nargs=2)
     parser.add_argument("--threads", type=int, default=0)
