@@ -61,18 +61,31 @@ inline CameraDesc lookingDown(Vec3 position, bool orthographic, float apertureTe
     return c;
 }
 
-inline std::vector<float> renderImage(Scene& scene, const std::string& integrator, int size, int spp,
-                                      const std::map<std::string, double>& params = {}, uint32_t seed = 1) {
+struct Rendered {
+    std::vector<float> rgb;
+    RenderStats stats;
+    std::vector<std::string> warnings;
+};
+
+// Renders a square image of the committed (or now committed) scene.
+inline Rendered render(Scene& scene, const std::string& integrator, int size, int spp,
+                       const std::map<std::string, double>& params = {}, uint32_t seed = 1, int threads = 0) {
     scene.commit();
     RenderSettings settings;
     settings.width = settings.height = size;
     settings.spp = spp;
     settings.integrator = integrator;
     settings.seed = seed;
+    settings.threads = threads;
     for (auto& [k, v] : params) settings.params.set(k, v);
     Renderer renderer(scene, settings);
     renderer.render();
-    return renderer.film().color();
+    return {renderer.film().color(), renderer.stats(), scene.warnings()};
+}
+
+inline std::vector<float> renderImage(Scene& scene, const std::string& integrator, int size, int spp,
+                                      const std::map<std::string, double>& params = {}, uint32_t seed = 1) {
+    return render(scene, integrator, size, spp, params, seed).rgb;
 }
 
 inline double channelMean(const std::vector<float>& rgb, int channel) {

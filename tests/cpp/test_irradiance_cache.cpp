@@ -75,25 +75,6 @@ void buildCornellBox(Scene& scene) {
     scene.setCamera(camera);
 }
 
-struct Rendered {
-    std::vector<float> rgb;
-    RenderStats stats;
-};
-
-Rendered render(Scene& scene, const std::string& integrator, int size, int spp,
-                const std::map<std::string, double>& params, uint32_t seed = 1, int threads = 0) {
-    if (!scene.committed()) scene.commit();
-    RenderSettings settings;
-    settings.width = settings.height = size;
-    settings.spp = spp;
-    settings.integrator = integrator;
-    settings.seed = seed;
-    settings.threads = threads;
-    for (auto& [k, v] : params) settings.params.set(k, v);
-    Renderer renderer(scene, settings);
-    renderer.render();
-    return {renderer.film().color(), renderer.stats()};
-}
 
 void printStatistics(const char* label, const RenderStats& stats) {
     std::printf("[ stats    ] %s: %.0f records (%.0f at render time), %.3f s computing records, %.3f s interpolating,"
