@@ -16,7 +16,9 @@ echo "== Python tests (pytest)"
 .venv/bin/python -m pytest -q tests/python || status=1
 
 openusd=${GI_OPENUSD_ROOT:-/opt/openusd}
-if [ -f "$openusd/pxrConfig.cmake" ]; then
+if [ ! -f scripts/test-hydra.sh ]; then
+  echo "== Hydra plugin tests: none yet (the hdGi delegate is not in this revision)"
+elif [ -f "$openusd/pxrConfig.cmake" ]; then
   echo "== Hydra plugin tests against $openusd"
   bash scripts/test-hydra.sh "$openusd" || status=1
 else
