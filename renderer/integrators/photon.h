@@ -24,7 +24,8 @@ inline uint32_t encode(const Vec3& v) {
     return quantize(x) | (quantize(y) << 16);
 }
 
-inline Vec3 decode(uint32_t packed) {
+// The direction, not yet normalised.
+inline Vec3 decodeUnnormalized(uint32_t packed) {
     float x = float(packed & 0xffffu) / 65535.0f * 2 - 1, y = float(packed >> 16) / 65535.0f * 2 - 1;
     Vec3 v(x, y, 1 - std::fabs(x) - std::fabs(y));
     if (v.z < 0) {
@@ -32,7 +33,17 @@ inline Vec3 decode(uint32_t packed) {
         float fy = (1 - std::fabs(x)) * (y >= 0 ? 1.0f : -1.0f);
         v.x = fx, v.y = fy;
     }
-    return normalize(v);
+    return v;
+}
+
+inline Vec3 decode(uint32_t packed) { return normalize(decodeUnnormalized(packed)); }
+
+// Whether the packed direction makes an angle with unit n whose cosine is at least cosMin > 0,
+// without the square root and division of normalising it (queries test many photons).
+inline bool agrees(uint32_t packed, const Vec3& n, float cosMin) {
+    Vec3 v = decodeUnnormalized(packed);
+    float d = dot(v, n);
+    return d > 0 && d * d >= cosMin * cosMin * lengthSquared(v);
 }
 
 }  // namespace octahedral

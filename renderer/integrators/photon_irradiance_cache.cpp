@@ -15,10 +15,7 @@ constexpr uint32_t kFillSampleIndex = 0xfffffff2u;
 }  // namespace
 
 PhotonMapIrradianceCacheIntegrator::PhotonMapIrradianceCacheIntegrator(const PhotonIrradianceCacheSettings& settings)
-    : DirectIntegrator(settings.record.rayDepth, settings.lightSamples),
-      settings_(settings),
-      recordSampler_(settings.record),
-      cache_(settings.record.accuracy) {
+    : DirectIntegrator(settings.record.rayDepth, settings.lightSamples), settings_(settings), cache_(settings.record.accuracy) {
     settings_.photons.globalKeepsDirectAndCaustic = false;
     settings_.photons.rayDepth = settings.record.rayDepth;
 }
@@ -29,8 +26,7 @@ PhotonMapIrradianceCacheIntegrator::Site PhotonMapIrradianceCacheIntegrator::sit
 }
 
 IrradianceRecord PhotonMapIrradianceCacheIntegrator::computeRecord(const Scene& scene, const Site& where,
-                                                                   RayStats& stats, Counters& counters,
-                                                                   bool* pathTraced) const {
+                                                                   RayStats& stats, Counters& counters) const {
     const int k = settings_.photons.gatherPhotons;
     const RecordSite& site = where.record;
     PhotonEstimate estimate =
@@ -46,33 +42,28 @@ IrradianceRecord PhotonMapIrradianceCacheIntegrator::computeRecord(const Scene& 
                                    std::max(r.minSpacing, r.maxSpacing) * site.footprint);
         record.sigma = luminance(estimate.value) / std::sqrt(float(estimate.photons));
         counters.photonRecords.fetch_add(1, std::memory_order_relaxed);
-        *pathTraced = false;
         return record;
     }
     counters.pathTracedRecords.fetch_add(1, std::memory_order_relaxed);
-    *pathTraced = true;
-    return recordSampler_.sample(scene, site, seed_, IrradianceRecordSampler::streamKey(site), stats);
+    return recordSampler_->sample(scene, site, seed_, IrradianceRecordSampler::streamKey(site), stats);
 }
 
-bool PhotonMapIrradianceCacheIntegrator::interpolate(const Scene& scene, const Site& site, bool relaxed, Color* E,
-                                                     float* pathTracedShare) const {
+bool PhotonMapIrradianceCacheIntegrator::interpolate(const Scene& scene, const Site& site, bool relaxed,
+                                                     Color* E) const {
     std::vector<IrradianceCache::Contribution> contributions;
     cache_.gather(site.record.p, site.record.n, contributions, relaxed);
     Color weighted(0.0f);
-    float weightSum = 0, pathTracedWeight = 0;
+    float weightSum = 0;
     for (const IrradianceCache::Contribution& c : contributions) {
         const IrradianceRecord& record = cache_.record(c.record);
-        const RecordOrigin& origin = recordOrigins_[c.record];
-        if (origin.surface != site.surface &&
+        if (recordSurfaces_[c.record] != site.surface &&
             !clearBetween(scene, site.record.p, site.record.n, record.p, record.n, 0.05f * length(record.p - site.record.p)))
             continue;
         weighted += c.E * c.weight;
         weightSum += c.weight;
-        if (origin.pathTraced) pathTracedWeight += c.weight;
     }
     if (!(weightSum > 0)) return false;
     *E = weighted / weightSum;
-    *pathTracedShare = pathTracedWeight / weightSum;
     return true;
 }
 
@@ -83,9 +74,10 @@ void PhotonMapIrradianceCacheIntegrator::preprocess(const PreprocessContext& con
     if (maps_.global.empty() && settings_.photons.photons > 0)
         context.scene.warn("photonMapIrradianceCache: the global photon map is empty, so every irradiance record "
                            "is path traced");
+    recordSampler_ = std::make_unique<PathTracedRecordSampler>(settings_.record, !maps_.caustic.empty());
     auto start = std::chrono::steady_clock::now();
     cache_.reset(context.scene.bounds().center, context.scene.bounds().radius);
-    recordOrigins_.clear();
+    recordSurfaces_.clear();
     fillFromPixelCentres(context);
     fillSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -117,49 +109,39 @@ void PhotonMapIrradianceCacheIntegrator::fillFromPixelCentres(const PreprocessCo
         std::vector<uint8_t> missing(sites.size(), 0);
         tbb::parallel_for(size_t(0), sites.size(), [&](size_t i) {
             Color E;
-            float share;
-            missing[i] = !interpolate(context.scene, sites[i], false, &E, &share);
+            missing[i] = !interpolate(context.scene, sites[i], false, &E);
         });
         std::vector<size_t> wanted;
         for (size_t i = 0; i < sites.size(); ++i)
             if (missing[i]) wanted.push_back(i);
         std::vector<IrradianceRecord> records(wanted.size());
-        std::vector<uint8_t> pathTraced(wanted.size(), 0);
         tbb::parallel_for(size_t(0), wanted.size(), [&](size_t i) {
             RayStats stats;
-            bool traced = false;
-            records[i] = computeRecord(context.scene, sites[wanted[i]], stats, preprocessRecords_, &traced);
-            pathTraced[i] = traced;
+            records[i] = computeRecord(context.scene, sites[wanted[i]], stats, preprocessRecords_);
         });
         for (size_t i = 0; i < records.size(); ++i) {
             cache_.insert(records[i]);
-            recordOrigins_.push_back({sites[wanted[i]].surface, pathTraced[i] != 0});
+            recordSurfaces_.push_back(sites[wanted[i]].surface);
         }
     }
 }
 
 Color PhotonMapIrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler,
                                                    RayStats& stats) const {
-    auto caustics = [&] {
-        if (maps_.caustic.empty()) return Color(0.0f);
-        return maps_.caustic.radiance(sp, scene, settings_.photons.gatherPhotons, maps_.gatherRadius).value;
-    };
+    Color L(0.0f);
+    if (!maps_.caustic.empty())
+        L += maps_.caustic.radiance(sp, scene, settings_.photons.gatherPhotons, maps_.gatherRadius).value;
     Color reflectance = sp.bsdf.diffuseReflectance();
-    if (isBlack(reflectance)) return caustics();
+    if (isBlack(reflectance)) return L;
     lookups_.fetch_add(1, std::memory_order_relaxed);
     Site site = siteOf(sp);
     Color E;
-    float pathTracedShare = 0;
-    if (!interpolate(scene, site, false, &E, &pathTracedShare) && !interpolate(scene, site, true, &E, &pathTracedShare)) {
+    if (!interpolate(scene, site, false, &E) && !interpolate(scene, site, true, &E)) {
         // Nothing near enough: a record for this sample alone (a photon estimate, or a
         // path-traced record from a stream keyed by its site), not stored.
-        bool traced = false;
-        E = computeRecord(scene, site, stats, renderRecords_, &traced).E;
-        pathTracedShare = traced ? 1.0f : 0.0f;
+        E = computeRecord(scene, site, stats, renderRecords_).E;
     }
-    Color L = reflectance * E * kInvPi;
-    if (pathTracedShare < 1) L += caustics() * (1 - pathTracedShare);
-    return L;
+    return L + reflectance * E * kInvPi;
 }
 
 std::map<std::string, double> PhotonMapIrradianceCacheIntegrator::statistics() const {

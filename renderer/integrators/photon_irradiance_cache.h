@@ -5,13 +5,11 @@
 // map's irradiance estimate: "the photon map is used in place of the irradiance cache, and
 // only where there are not enough photons to estimate the irradiance is it computed, by path
 // tracing" (2.4.7). A record needs at least half of gatherPhotons within maxGatherRadius;
-// elsewhere it is a path-traced record (paths, pathDepth) with gradients.
+// elsewhere it is a path-traced record (paths, pathDepth; path_traced_record.h).
 //
 // The global map holds only photons that have bounced off a non-specular surface: direct
-// light comes from light sampling and caustics from the caustic map. A path-traced record
-// sees caustics too (L S+ D paths through its hemisphere), so the caustic map is added in
-// proportion to the weight of photon records in the interpolation: where path-traced records
-// alone apply, their own (noisier) caustics stand; no caustic is counted twice.
+// light comes from light sampling and caustics from the caustic map, so path-traced records
+// leave caustic paths out as well (unless there is no caustic map).
 //
 // A photon record reuses its estimate over half the gather disc's radius (divided by the
 // accuracy k), clamped to [minSpacing, maxSpacing] pixels: the estimate is already an
@@ -26,7 +24,7 @@
 
 #include "direct.h"
 #include "irradiance_cache.h"
-#include "irradiance_record_sampler.h"
+#include "path_traced_record.h"
 #include "photon_maps.h"
 #include "pixel_footprint.h"
 
@@ -60,26 +58,19 @@ private:
         uint32_t surface;
     };
     Site siteOf(const ShadingPoint& sp) const;
-    // From the photon map where it has enough photons, by path tracing elsewhere (then
-    // *pathTraced is set).
-    IrradianceRecord computeRecord(const Scene& scene, const Site& site, RayStats& stats, Counters& counters,
-                                   bool* pathTraced) const;
+    // From the photon map where it has enough photons, by path tracing elsewhere.
+    IrradianceRecord computeRecord(const Scene& scene, const Site& site, RayStats& stats, Counters& counters) const;
     // The cache's interpolation (2.31) over the records valid at the site that it can see: a
     // record from another surface counts only with a clear line between the two (the
     // visibility guard of photon_map.h), so that no record reaches through a thin wall to
     // the floor on its other side, however small the wall's distance or large the record.
-    // *pathTracedShare: the share of path-traced records in the weights.
-    bool interpolate(const Scene& scene, const Site& site, bool relaxed, Color* E, float* pathTracedShare) const;
+    bool interpolate(const Scene& scene, const Site& site, bool relaxed, Color* E) const;
     void fillFromPixelCentres(const PreprocessContext& context);
 
     PhotonIrradianceCacheSettings settings_;
-    IrradianceRecordSampler recordSampler_;
+    std::unique_ptr<PathTracedRecordSampler> recordSampler_;  // made once the caustic map is known
     IrradianceCache cache_;
-    struct RecordOrigin {
-        uint32_t surface;  // the surface the record lies on
-        bool pathTraced;
-    };
-    std::vector<RecordOrigin> recordOrigins_;  // per record id
+    std::vector<uint32_t> recordSurfaces_;  // per record id, the surface it lies on
     PhotonMaps maps_;
     PixelFootprint footprint_;
     uint32_t seed_ = 0;

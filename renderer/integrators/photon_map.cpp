@@ -15,7 +15,7 @@ void PhotonMap::gather(const PhotonLookup& at, int k, float maxRadius, std::vect
         float along = dot(d, at.n);
         return lengthSquared(d) + stretch * along * along;
     };
-    auto agrees = [&](const Photon& photon) { return dot(photon.n(), at.n) >= kPhotonNormalAgreement; };
+    auto agrees = [&](const Photon& photon) { return octahedral::agrees(photon.normal, at.n, kPhotonNormalAgreement); };
     tree_.nearest(at.p, size_t(std::max(k, 1)), maxRadius * maxRadius, discDistance2, agrees, out);
 }
 

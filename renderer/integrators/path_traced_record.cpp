@@ -1,0 +1,81 @@
+#include "path_traced_record.h"
+
+namespace gi {
+
+PathTracedRecordSampler::PathTracedRecordSampler(const RecordSettings& settings, bool leaveOutCaustics)
+    : settings_(settings),
+      layout_(HemisphereLayout::forPaths(settings.paths)),
+      // The continuation starts at the record path's second vertex, so it gets one vertex less.
+      continuation_(1, std::max(0, settings.pathDepth - 1), settings.rayDepth, std::max(0, settings.rouletteDepth - 1)),
+      leaveOutCaustics_(leaveOutCaustics) {}
+
+Color PathTracedRecordSampler::bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi,
+                                               Sampler& sampler, RayStats& stats, float* distance) const {
+    Ray ray = spawnRay(origin, wi);
+    Color weight(1.0f);
+    *distance = kInf;
+    for (int specularVertices = 0;; ++specularVertices) {
+        Intersection hit = intersectVisible(scene, ray, sampler, stats, false);
+        if (specularVertices == 0 && hit.kind != Intersection::Kind::None) *distance = hit.t;
+        // A light reached directly is direct light (light sampling), through specular
+        // surfaces a caustic (the caustic map).
+        if (hit.kind != Intersection::Kind::Surface) return Color(0.0f);
+        const SurfaceInteraction& si = hit.si;
+        Color L(0.0f);
+        // An emissive surface that is not a light is sampled by nothing else.
+        if (si.emissiveLight < 0 && si.material->isEmissive() && (si.doubleSided || dot(ray.d, si.ng) < 0))
+            L += si.material->emission(si.uv);
+        ShadingPoint sp = makeShadingPoint(si, -ray.d);
+        if (sp.bsdf.hasNonDelta() || !leaveOutCaustics_)
+            return weight * (L + continuation_.continuePath(scene, sp, sampler, stats));
+        // A purely specular surface: follow one branch, picked by its weight, and see whether
+        // the path finds a non-specular surface before it finds light.
+        if (specularVertices >= settings_.rayDepth) return weight * L;
+        float uLobe = sampler.get1D();
+        BsdfSample bs = sp.bsdf.sample(sp.woLocal, uLobe, sampler.get2D());
+        if (!bs.valid) return weight * L;
+        weight *= bs.weight;
+        if (!isFinite(weight) || isBlack(weight)) return Color(0.0f);
+        ray = spawnRay(sp.si, sp.frame.toWorld(bs.wi));
+    }
+}
+
+IrradianceRecord PathTracedRecordSampler::sample(const Scene& scene, const RecordSite& site, uint32_t seed,
+                                                 uint32_t streamKey, RayStats& stats) const {
+    const int M = layout_.polar, N = layout_.azimuthal;
+    Frame frame(site.n);
+    // Leaving from a hair towards the viewer, as the cache's sampler does: a site on a crease
+    // lies on the other surface's plane too.
+    SurfaceInteraction origin;
+    origin.p = site.p + site.wo * (1e-3f * site.footprint + 4e-5f * (1 + maxComponent(vmax(site.p, -site.p))));
+    origin.ng = site.ng;
+    const float rMinus = std::max(settings_.minSpacing * site.footprint, 1e-6f * (1 + length(site.p)));
+    const float rPlus = std::max(settings_.maxSpacing, settings_.minSpacing) * site.footprint;
+    Sampler sampler(seed);
+    Color sum(0.0f);
+    float minDistance = kInf;
+    for (int j = 0; j < M; ++j)
+        for (int k = 0; k < N; ++k) {
+            sampler.startStream(streamKey, uint32_t(j * N + k));
+            Vec2 u = sampler.get2D();
+            // Cosine-weighted within the cell: sin^2(theta) uniform over [j/M, (j+1)/M).
+            float sin2 = (j + u.x) / M, sinTheta = std::sqrt(sin2), cosTheta = safeSqrt(1 - sin2);
+            float phi = 2 * kPi * (k + u.y) / N;
+            Vec3 wi = frame.toWorld(Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
+            float distance;
+            Color L = bouncedRadiance(scene, origin, wi, sampler, stats, &distance);
+            if (isFinite(L)) sum += vmax(L, Color(0.0f));  // one broken path must not poison a region
+            minDistance = std::min(minDistance, std::max(distance, rMinus));
+        }
+    IrradianceRecord record;
+    record.p = site.p;
+    record.n = site.n;
+    record.footprint = site.footprint;
+    record.E = sum * (kPi / float(M * N));  // cosine-weighted estimator
+    record.minDistance = minDistance;
+    float radius = 0.5f * minDistance / settings_.accuracy;
+    record.radius = std::isfinite(radius) ? std::clamp(radius, rMinus, std::max(rMinus, rPlus)) : std::max(rMinus, rPlus);
+    return record;
+}
+
+}  // namespace gi

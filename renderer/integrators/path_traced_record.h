@@ -1,0 +1,38 @@
+// The fallback records of photon mapping with an irradiance cache (thesis 2.4.7: "only where
+// there are not enough photons to estimate the irradiance is it computed, by path tracing").
+//
+// The hemisphere is sampled in the M x N cells of the irradiance cache's record sampler
+// (irradiance_record_sampler.h), but a path that reaches a light or the sky through specular
+// surfaces alone (L S+ D, a caustic) is left out when the caustic map supplies caustics at
+// every shading point; otherwise it would be counted twice. (The cache's own sampler counts
+// such paths: it serves integrators without a caustic map.) Without gradients, as in Ward's
+// original cache: validity from the T&L radius of the nearest hit, like the photon records.
+#pragma once
+#include "irradiance_record.h"
+#include "irradiance_record_sampler.h"
+#include "path.h"
+
+namespace gi {
+
+class PathTracedRecordSampler {
+public:
+    PathTracedRecordSampler(const RecordSettings& settings, bool leaveOutCaustics);
+
+    // A record for `site` from stream `streamKey` of a sampler seeded with `seed`: cell c uses
+    // the stream's sample c, so a record depends on (seed, key, site) only.
+    IrradianceRecord sample(const Scene& scene, const RecordSite& site, uint32_t seed, uint32_t streamKey,
+                            RayStats& stats) const;
+
+private:
+    // Radiance arriving from direction wi that has bounced off a non-specular surface at least
+    // once (or, without leaveOutCaustics, off any surface); sets the first hit's distance.
+    Color bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi, Sampler& sampler,
+                          RayStats& stats, float* distance) const;
+
+    RecordSettings settings_;
+    HemisphereLayout layout_;
+    PathIntegrator continuation_;
+    bool leaveOutCaustics_;
+};
+
+}  // namespace gi
