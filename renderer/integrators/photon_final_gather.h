@@ -9,11 +9,11 @@
 //   caustic map (through specular surfaces) already count them.
 //
 // The estimate a gather ray reads is precomputed (Christensen 2000): the global map's
-// irradiance at every 4th photon, so a gather costs one nearest-photon search instead of a
-// k-nearest one (a k = 50 search visits some 240 photons: ten times the work). What it
-// returns is the diffuse reflection, reflectance / pi * E, at the gather point; a glossy
-// lobe there reflects nothing into the gather (the final gather's usual approximation,
-// second-order since it is one bounce away from the camera).
+// irradiance at every 4th photon (fewer beyond a million photons; photon_maps.h), so a gather
+// costs one nearest-photon search instead of a k-nearest one (a k = 50 search visits some 240
+// photons: ten times the work). What it returns is the diffuse reflection, reflectance / pi
+// * E, at the gather point; a glossy lobe there reflects nothing into the gather (the final
+// gather's usual approximation, second-order since it is one bounce away from the camera).
 #pragma once
 #include <atomic>
 

@@ -30,13 +30,14 @@ uint32_t photonCount(const Scene& scene, double requested, const char* parameter
     return uint32_t(std::llround(requested));
 }
 
-// Irradiance photons: every stride-th photon of the global map, carrying the map's
-// irradiance estimate at its position instead of its power.
+// Irradiance photons: every stride-th photon of the global map (in tree order, so spread
+// like the photons), carrying the map's irradiance estimate at its position instead of its power.
 std::vector<Photon> irradiancePhotons(const Scene& scene, const PhotonMap& global, int k, float maxRadius) {
-    std::vector<Photon> result((global.size() + kIrradianceStride - 1) / kIrradianceStride);
+    size_t stride = std::max<size_t>(kMinIrradianceStride, (global.size() + kMaxIrradiancePhotons - 1) / kMaxIrradiancePhotons);
+    std::vector<Photon> result((global.size() + stride - 1) / stride);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, result.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t i = r.begin(); i < r.end(); ++i) {
-            Photon photon = global.tree()[uint32_t(i * kIrradianceStride)];
+            Photon photon = global.tree()[uint32_t(i * stride)];
             photon.power = global.irradiance(PhotonLookup{photon.p, photon.n(), photon.surface, &scene}, k, maxRadius).value;
             result[i] = photon;
         }
