@@ -27,6 +27,7 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
         lensRadius_ = focal * kTenthOfUnit / (2 * desc.fStop);
         focusDistance_ = desc.focusDistance;
     }
+    useInverseProjection_ = desc.useInverseProjection;
     position_ = desc.transform.point(Vec3(0.0f));
     forward_ = normalize(desc.transform.vector(Vec3(0, 0, -1)));
 }
@@ -34,6 +35,12 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
 Ray Camera::generateRay(float filmX, float filmY, Vec2 lens) const {
     float sx = (2 * filmX / width_ - 1) * halfWidth_ + offsetX_;
     float sy = (1 - 2 * filmY / height_) * halfHeight_ + offsetY_;
+    if (useInverseProjection_) {
+        // The near-plane point under the NDC position; perspective rays are scaled to z = -1.
+        Vec3 p = desc_.inverseProjection.projectPoint(Vec3(2 * filmX / width_ - 1, 1 - 2 * filmY / height_, -1));
+        if (orthographic_) sx = p.x, sy = p.y;
+        else if (p.z < 0) sx = p.x / -p.z, sy = p.y / -p.z;
+    }
     Vec3 o(0.0f), d;
     if (orthographic_) {
         o = Vec3(sx, sy, 0);

@@ -34,6 +34,12 @@ void FilmTile::addSample(float filmX, float filmY, const Color& L, const SampleA
     int cx = std::clamp(int(std::floor(filmX)), x0, x1 - 1), cy = std::clamp(int(std::floor(filmY)), y0, y1 - 1);
     auto accumulateAovs = [&](Pixel& p) {
         p.aovWeight += 1;
+        float dx = filmX - (cx + 0.5f), dy = filmY - (cy + 0.5f);
+        if (aovs.hit && dx * dx + dy * dy < p.idDistance2) {
+            p.idDistance2 = dx * dx + dy * dy;
+            p.shapeId = aovs.shapeId;
+            p.instanceId = aovs.instanceId;
+        }
         for (int c = 0; c < 3; ++c) {
             p.normal[c] += aovs.normal[c];
             p.albedo[c] += aovs.albedo[c];
@@ -83,6 +89,11 @@ void Film::merge(const FilmTile& tile) {
             d.depth += s.depth;
             d.aovWeight += s.aovWeight;
             d.depthCount += s.depthCount;
+            if (s.idDistance2 < d.idDistance2) {
+                d.idDistance2 = s.idDistance2;
+                d.shapeId = s.shapeId;
+                d.instanceId = s.instanceId;
+            }
         }
 }
 
@@ -118,6 +129,18 @@ std::vector<float> Film::albedo() const {
     for (size_t i = 0; i < pixels_.size(); ++i)
         for (int c = 0; c < 3; ++c)
             out[i * 3 + c] = pixels_[i].aovWeight > 0 ? float(pixels_[i].albedo[c] / pixels_[i].aovWeight) : 0.0f;
+    return out;
+}
+
+std::vector<int32_t> Film::shapeIds() const {
+    std::vector<int32_t> out(pixels_.size());
+    for (size_t i = 0; i < pixels_.size(); ++i) out[i] = pixels_[i].shapeId;
+    return out;
+}
+
+std::vector<int32_t> Film::instanceIds() const {
+    std::vector<int32_t> out(pixels_.size());
+    for (size_t i = 0; i < pixels_.size(); ++i) out[i] = pixels_[i].instanceId;
     return out;
 }
 

@@ -2,6 +2,7 @@
 // reconstruction filter. Tiles accumulate into their own padded buffers which are merged in a
 // fixed order, so the image is bit-identical whatever the thread timing.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,9 @@ struct SampleAovs {
     Vec3 normal{0.0f};
     Color albedo{0.0f};
     bool hit = false;
+    // What the first visible surface is: the scene's shape and instance (-1 for none), so a
+    // host can map a pixel back to a prim (picking).
+    int32_t shapeId = -1, instanceId = -1;
 };
 
 class FilmTile {
@@ -37,6 +41,9 @@ public:
         double weight = 0;
         double normal[3] = {0, 0, 0}, albedo[3] = {0, 0, 0};
         double depth = 0, aovWeight = 0, depthCount = 0;
+        // Ids of the sample nearest the pixel centre so far (stable as samples accumulate).
+        int32_t shapeId = -1, instanceId = -1;
+        float idDistance2 = kInf;
     };
     std::vector<Pixel> pixels;
 
@@ -58,6 +65,8 @@ public:
     std::vector<float> depth() const;   // W*H (inf where nothing was hit)
     std::vector<float> normal() const;  // W*H*3
     std::vector<float> albedo() const;  // W*H*3
+    std::vector<int32_t> shapeIds() const;     // W*H, -1 where nothing was hit
+    std::vector<int32_t> instanceIds() const;  // W*H, -1 where no instance was hit
 
 private:
     int width_, height_;

@@ -34,7 +34,7 @@ size_t peakResidentMemoryBytes() {
     return size_t(usage.ru_maxrss) * 1024;  // Linux reports kilobytes
 }
 
-Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
+Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const CameraDesc* camera)
     : scene_(scene), settings_(settings), film_(std::max(1, settings.width), std::max(1, settings.height),
                                                   Filter::byName(settings.filter)) {
     if (settings.width <= 0 || settings.height <= 0 || settings.width > 65536 || settings.height > 65536)
@@ -47,18 +47,25 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings)
         for (const auto& i : integratorRegistry()) names += (names.empty() ? "" : ", ") + i.name;
         throw std::invalid_argument("unknown integrator '" + settings.integrator + "' (have: " + names + ")");
     }
+    info_ = info;
     integrator_ = info->create(settings.params);
-    camera_ = Camera(scene.hasCamera() ? scene.cameraDesc() : defaultCamera(scene), settings.width, settings.height);
+    CameraDesc desc = camera ? *camera : scene.hasCamera() ? scene.cameraDesc() : defaultCamera(scene);
+    camera_ = Camera(desc, settings.width, settings.height);
 }
 
-void Renderer::preprocess(const std::atomic<bool>* cancel) {
-    if (preprocessed_) return;
+bool Renderer::preprocess(const std::atomic<bool>* cancel) {
+    if (preprocessed_) return true;
     auto start = Clock::now();
     PreprocessContext context{scene_, camera_, settings_.width, settings_.height, settings_.seed, cancel};
     tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
     arena.execute([&] { integrator_->preprocess(context); });
     stats_.preprocessSeconds += secondsSince(start);
+    if (cancel && cancel->load()) {
+        integrator_ = info_->create(settings_.params);  // a half-built cache must not be used
+        return false;
+    }
     preprocessed_ = true;
+    return true;
 }
 
 void Renderer::reset() {
@@ -68,7 +75,7 @@ void Renderer::reset() {
 }
 
 bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* cancel) {
-    preprocess(cancel);
+    if (!preprocess(cancel)) return false;
     auto start = Clock::now();
     int w = settings_.width, h = settings_.height;
     int tilesX = (w + kTileSize - 1) / kTileSize, tilesY = (h + kTileSize - 1) / kTileSize;
@@ -115,11 +122,11 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
                             std::memory_order_relaxed);
         });
     });
-    // Merged in tile order after the pass: the image does not depend on thread timing.
-    for (auto& tile : tiles)
-        if (tile) film_.merge(*tile);
     bool complete = true;
     for (auto& tile : tiles) complete = complete && tile != nullptr;
+    // Merged in tile order after the pass: the image does not depend on thread timing.
+    if (complete)
+        for (auto& tile : tiles) film_.merge(*tile);
     for (const ThreadCounters& c : counters) {
         stats_.rays += c.rays.rays;
         stats_.cameraSamples += c.samples;

@@ -33,10 +33,14 @@ struct RenderStats {
 
 class Renderer {
 public:
-    // Throws std::invalid_argument for an unknown integrator or a bad resolution.
-    Renderer(const Scene& scene, const RenderSettings& settings);
-    void preprocess(const std::atomic<bool>* cancel = nullptr);
-    // Adds samples [first, first + count) of every pixel to the film. Returns false if cancelled.
+    // Throws std::invalid_argument for an unknown integrator or a bad resolution. `camera`
+    // overrides the scene's camera (a host's view); by default the scene's, else one framing it.
+    Renderer(const Scene& scene, const RenderSettings& settings, const CameraDesc* camera = nullptr);
+    // Returns false if cancelled; a cancelled preprocess is discarded and redone by the next call.
+    bool preprocess(const std::atomic<bool>* cancel = nullptr);
+    bool preprocessed() const { return preprocessed_; }
+    // Adds samples [first, first + count) of every pixel to the film. Returns false if cancelled;
+    // a cancelled pass leaves the film as it was, so the same pass can be rendered again.
     bool renderPass(int firstSample, int count, const std::atomic<bool>* cancel = nullptr);
     // Preprocess plus passes up to settings.spp (or the time limit).
     void render(const std::atomic<bool>* cancel = nullptr);
@@ -53,6 +57,7 @@ private:
     const Scene& scene_;
     RenderSettings settings_;
     Camera camera_;
+    const IntegratorInfo* info_ = nullptr;
     std::unique_ptr<Integrator> integrator_;
     Film film_;
     RenderStats stats_;

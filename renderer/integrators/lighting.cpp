@@ -81,6 +81,8 @@ void recordAovs(SampleAovs* aovs, const ShadingPoint& sp, float depth) {
     aovs->depth = depth;
     aovs->normal = sp.si.ns;
     aovs->albedo = sp.bsdf.albedo();
+    aovs->shapeId = int32_t(sp.si.shapeId);
+    aovs->instanceId = sp.si.instanceId == 0xffffffffu ? -1 : int32_t(sp.si.instanceId);
 }
 
 }  // namespace gi
