@@ -1,0 +1,72 @@
+#include "gprim.h"
+
+#include "instancer.h"
+#include "pxr/base/vt/array.h"
+#include "pxr/imaging/hd/changeTracker.h"
+#include "pxr/imaging/hd/tokens.h"
+
+PXR_NAMESPACE_OPEN_SCOPE
+
+HdDirtyBits HdGiGprimInitialDirtyBits() {
+    return HdChangeTracker::Clean | HdChangeTracker::InitRepr | HdChangeTracker::DirtyPoints |
+           HdChangeTracker::DirtyTopology | HdChangeTracker::DirtyTransform | HdChangeTracker::DirtyVisibility |
+           HdChangeTracker::DirtyCullStyle | HdChangeTracker::DirtyDoubleSided | HdChangeTracker::DirtyDisplayStyle |
+           HdChangeTracker::DirtySubdivTags | HdChangeTracker::DirtyPrimvar | HdChangeTracker::DirtyNormals |
+           HdChangeTracker::DirtyInstancer | HdChangeTracker::DirtyInstanceIndex | HdChangeTracker::DirtyMaterialId;
+}
+
+namespace {
+bool ReadDisplayColor(VtValue const& value, GfVec3f* color) {
+    if (value.IsHolding<VtVec3fArray>() && !value.UncheckedGet<VtVec3fArray>().empty()) {
+        *color = value.UncheckedGet<VtVec3fArray>()[0];
+        return true;
+    }
+    if (value.IsHolding<GfVec3f>()) {
+        *color = value.UncheckedGet<GfVec3f>();
+        return true;
+    }
+    return false;
+}
+}  // namespace
+
+bool HdGiGprimState::Sync(HdRprim& prim, HdSceneDelegate* delegate, HdDirtyBits dirtyBits) {
+    SdfPath const& id = prim.GetId();
+    bool changed = false;
+    if (dirtyBits & HdChangeTracker::DirtyMaterialId) {
+        prim.SetMaterialId(delegate->GetMaterialId(id));
+        changed = true;
+    }
+    if (HdChangeTracker::IsTransformDirty(dirtyBits, id)) {
+        transform = delegate->GetTransform(id);
+        changed = true;
+    }
+    if (HdChangeTracker::IsDoubleSidedDirty(dirtyBits, id)) {
+        doubleSided = delegate->GetDoubleSided(id);
+        changed = true;
+    }
+    if (HdChangeTracker::IsPrimvarDirty(dirtyBits, id, HdTokens->displayColor)) {
+        // The first value stands for the prim (as a material would); per-vertex colors are not shaded.
+        hasDisplayColor = ReadDisplayColor(delegate->Get(id, HdTokens->displayColor), &displayColor);
+        changed = true;
+    }
+    if (HdChangeTracker::IsInstancerDirty(dirtyBits, id) || HdChangeTracker::IsInstanceIndexDirty(dirtyBits, id) ||
+        HdChangeTracker::IsTransformDirty(dirtyBits, id) || !prim.GetInstancerId().IsEmpty()) {
+        instanced = HdGiRprimInstances(delegate, prim.GetInstancerId(), id, &instances);
+        changed = true;
+    }
+    return changed;
+}
+
+void HdGiGprimState::Apply(HdRprim const& prim, HdGiGeometry& g) const {
+    g.name = prim.GetId().GetString();
+    g.transform = transform;
+    g.doubleSided = doubleSided;
+    g.hasDisplayColor = hasDisplayColor;
+    g.displayColor = displayColor;
+    g.instanced = instanced;
+    g.instanceTransforms = instances;
+    if (g.material.IsEmpty()) g.material = prim.GetMaterialId();
+    g.primId = prim.GetPrimId();
+}
+
+PXR_NAMESPACE_CLOSE_SCOPE

@@ -1,0 +1,34 @@
+// What meshes and spheres share: material binding, displayColor, transform, visibility,
+// sidedness and instancing, pulled from the scene delegate only when their bits are dirty.
+#pragma once
+#include <vector>
+
+#include "pxr/base/gf/matrix4d.h"
+#include "pxr/base/gf/vec3f.h"
+#include "pxr/imaging/hd/rprim.h"
+#include "pxr/imaging/hd/sceneDelegate.h"
+#include "pxr/pxr.h"
+#include "sceneStore.h"
+
+PXR_NAMESPACE_OPEN_SCOPE
+
+class HdGiRenderParam;
+
+struct HdGiGprimState {
+    GfMatrix4d transform{1.0};
+    bool doubleSided = true;
+    bool hasDisplayColor = false;
+    GfVec3f displayColor{0.18f};
+    bool instanced = false;
+    std::vector<GfMatrix4d> instances;
+
+    // Updates what `dirtyBits` marks; returns true if anything the renderer sees changed.
+    bool Sync(HdRprim& prim, HdSceneDelegate* delegate, HdDirtyBits dirtyBits);
+    // Fills the fields of `g` this state owns.
+    void Apply(HdRprim const& prim, HdGiGeometry& g) const;
+};
+
+// Dirty bits every gprim wants on first sync.
+HdDirtyBits HdGiGprimInitialDirtyBits();
+
+PXR_NAMESPACE_CLOSE_SCOPE

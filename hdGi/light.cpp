@@ -1,0 +1,90 @@
+#include "light.h"
+
+#include "pxr/base/gf/vec3f.h"
+#include "pxr/imaging/hd/sceneDelegate.h"
+#include "pxr/imaging/hd/tokens.h"
+#include "pxr/usd/sdf/assetPath.h"
+#include "renderParam.h"
+
+PXR_NAMESPACE_OPEN_SCOPE
+
+HdGiLight::HdGiLight(SdfPath const& id, TfToken const& lightType) : HdLight(id), _lightType(lightType) {}
+
+HdDirtyBits HdGiLight::GetInitialDirtyBitsMask() const { return AllDirty; }
+
+namespace {
+
+std::string Kind(TfToken const& type) {
+    if (type == HdPrimTypeTokens->rectLight) return "rect";
+    if (type == HdPrimTypeTokens->diskLight) return "disk";
+    if (type == HdPrimTypeTokens->sphereLight) return "sphere";
+    if (type == HdPrimTypeTokens->cylinderLight) return "cylinder";
+    if (type == HdPrimTypeTokens->distantLight) return "distant";
+    if (type == HdPrimTypeTokens->domeLight) return "dome";
+    return "";
+}
+
+template <typename T>
+bool Param(HdSceneDelegate* delegate, SdfPath const& id, TfToken const& name, T* out) {
+    VtValue v = delegate->GetLightParamValue(id, name);
+    if (v.IsHolding<T>()) {
+        *out = v.UncheckedGet<T>();
+        return true;
+    }
+    if constexpr (std::is_same_v<T, float>) {
+        if (v.IsHolding<double>()) return *out = float(v.UncheckedGet<double>()), true;
+    }
+    return false;
+}
+
+}  // namespace
+
+void HdGiLight::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDirtyBits* dirtyBits) {
+    auto* param = static_cast<HdGiRenderParam*>(renderParam);
+    SdfPath const& id = GetId();
+    if (!(*dirtyBits & (DirtyTransform | DirtyParams | DirtyResource | DirtyShadowParams | DirtyCollection))) {
+        *dirtyBits = Clean;
+        return;
+    }
+    std::string kind = Kind(_lightType);
+    auto light = std::make_shared<gi::LightDesc>();
+    light->name = id.GetString();
+    light->kind = kind;
+    GfVec3f color(1.0f);
+    if (Param(delegate, id, HdLightTokens->color, &color)) light->color = gi::Color(color[0], color[1], color[2]);
+    Param(delegate, id, HdLightTokens->intensity, &light->intensity);
+    Param(delegate, id, HdLightTokens->exposure, &light->exposure);
+    Param(delegate, id, HdLightTokens->normalize, &light->normalize);
+    Param(delegate, id, HdLightTokens->width, &light->width);
+    Param(delegate, id, HdLightTokens->height, &light->height);
+    Param(delegate, id, HdLightTokens->radius, &light->radius);
+    Param(delegate, id, HdLightTokens->length, &light->length);
+    Param(delegate, id, HdLightTokens->angle, &light->angle);
+    bool visibleInPrimaryRay = true;
+    if (Param(delegate, id, TfToken("visibleInPrimaryRay"), &visibleInPrimaryRay))
+        light->visibleToCamera = visibleInPrimaryRay;
+    SdfAssetPath texture;
+    if ((kind == "dome" || kind == "rect") && Param(delegate, id, HdLightTokens->textureFile, &texture) &&
+        !texture.GetAssetPath().empty()) {
+        light->textureFile = texture.GetResolvedPath();
+        if (light->textureFile.empty())
+            param->Warn(id, "texture file '" + texture.GetAssetPath() + "' was not found; using the light's color");
+    }
+    light->transform = HdGiToMat4(delegate->GetTransform(id));
+    bool visible = delegate->GetVisible(id);
+
+    HdGiSceneStore& store = param->EditScene();
+    if (kind.empty()) {
+        param->Warn(id, std::string(_lightType.GetText()) + " is not supported; ignored");
+        store.SetLight(id, nullptr);
+    } else {
+        store.SetLight(id, visible ? std::shared_ptr<const gi::LightDesc>(light) : nullptr);
+    }
+    *dirtyBits = Clean;
+}
+
+void HdGiLight::Finalize(HdRenderParam* renderParam) {
+    static_cast<HdGiRenderParam*>(renderParam)->EditScene().Remove(GetId());
+}
+
+PXR_NAMESPACE_CLOSE_SCOPE

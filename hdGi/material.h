@@ -1,0 +1,27 @@
+// Hydra material networks (UsdPreviewSurface, UsdUVTexture, UsdPrimvarReader_float2,
+// UsdTransform2d) to the renderer's MaterialDesc. Textures are only named here; the renderer
+// reads them when a visible prim uses the material.
+#pragma once
+#include <memory>
+
+#include "pxr/imaging/hd/material.h"
+#include "pxr/pxr.h"
+#include "renderer/material.h"
+
+PXR_NAMESPACE_OPEN_SCOPE
+
+class HdGiRenderParam;
+
+class HdGiMaterial final : public HdMaterial {
+public:
+    explicit HdGiMaterial(SdfPath const& id);
+    void Sync(HdSceneDelegate* sceneDelegate, HdRenderParam* renderParam, HdDirtyBits* dirtyBits) override;
+    HdDirtyBits GetInitialDirtyBitsMask() const override;
+    void Finalize(HdRenderParam* renderParam) override;
+};
+
+// The network's surface as a MaterialDesc; warnings name the node and input.
+std::shared_ptr<gi::MaterialDesc> HdGiMaterialFromNetwork(SdfPath const& id, HdMaterialNetwork2 const& network,
+                                                          HdGiRenderParam* param);
+
+PXR_NAMESPACE_CLOSE_SCOPE

@@ -1,0 +1,85 @@
+#include "mesh.h"
+
+#include <algorithm>
+
+#include "meshGeometry.h"
+#include "pxr/imaging/hd/meshUtil.h"
+#include "pxr/imaging/hd/tokens.h"
+#include "renderParam.h"
+
+PXR_NAMESPACE_OPEN_SCOPE
+
+HdGiMesh::HdGiMesh(SdfPath const& id) : HdMesh(id) {}
+
+HdDirtyBits HdGiMesh::GetInitialDirtyBitsMask() const { return HdGiGprimInitialDirtyBits(); }
+
+void HdGiMesh::_InitRepr(TfToken const& reprToken, HdDirtyBits*) {
+    auto it = std::find_if(_reprs.begin(), _reprs.end(), _ReprComparator(reprToken));
+    if (it == _reprs.end()) _reprs.emplace_back(reprToken, HdReprSharedPtr());
+}
+
+namespace {
+
+HdGiPrimvar FindPrimvar(HdRprim const& prim, HdSceneDelegate* delegate, TfToken const& name) {
+    for (size_t i = 0; i < HdInterpolationCount; ++i) {
+        auto interpolation = HdInterpolation(i);
+        for (HdPrimvarDescriptor const& pv : prim.GetPrimvarDescriptors(delegate, interpolation))
+            if (pv.name == name) return HdGiPrimvar{prim.GetPrimvar(delegate, name), interpolation};
+    }
+    return HdGiPrimvar();
+}
+
+}  // namespace
+
+void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDirtyBits* dirtyBits,
+                    TfToken const&) {
+    auto* param = static_cast<HdGiRenderParam*>(renderParam);
+    SdfPath const& id = GetId();
+    HdDirtyBits bits = *dirtyBits;
+    bool wasVisible = IsVisible();
+    if (HdChangeTracker::IsVisibilityDirty(bits, id)) _UpdateVisibility(delegate, dirtyBits);
+    _UpdateInstancer(delegate, dirtyBits);
+    bool changed = _state.Sync(*this, delegate, bits) || wasVisible != IsVisible();
+
+    bool geometryDirty = HdChangeTracker::IsTopologyDirty(bits, id) || HdChangeTracker::IsPrimvarDirty(bits, id, HdTokens->points) ||
+                         HdChangeTracker::IsPrimvarDirty(bits, id, HdTokens->normals) ||
+                         HdChangeTracker::IsSubdivTagsDirty(bits, id) || HdChangeTracker::IsDisplayStyleDirty(bits, id) ||
+                         HdChangeTracker::IsAnyPrimvarDirty(bits, id);
+    if (geometryDirty) {
+        HdGiMeshInput input;
+        input.topology = GetMeshTopology(delegate);
+        input.points = delegate->Get(id, HdTokens->points);
+        input.normals = FindPrimvar(*this, delegate, HdTokens->normals);
+        input.st = FindPrimvar(*this, delegate, TfToken("st"));
+        // Only subdivision meshes are refined; the host's complexity sets the level.
+        input.refineLevel = input.topology.GetScheme() == PxOsdOpenSubdivTokens->none
+                                ? 0
+                                : delegate->GetDisplayStyle(id).refineLevel;
+        HdGiMeshPieces pieces = HdGiTriangulate(id, input);
+        for (std::string const& w : pieces.warnings) param->Warn(id, w);
+        _pieces.clear();
+        for (HdGiTriangleMesh& m : pieces.pieces) _pieces.push_back(std::make_shared<const HdGiTriangleMesh>(std::move(m)));
+        _pieceMaterials = pieces.materials;
+        changed = true;
+    }
+
+    if (changed) {
+        HdGiSceneStore& store = param->EditScene();
+        if (IsVisible()) {
+            auto g = std::make_shared<HdGiGeometry>();
+            g->pieces = _pieces;
+            g->pieceMaterials = _pieceMaterials;
+            _state.Apply(*this, *g);
+            store.SetGeometry(id, std::move(g));
+        } else {
+            store.SetGeometry(id, nullptr);
+        }
+    }
+    *dirtyBits &= ~HdChangeTracker::AllSceneDirtyBits;
+}
+
+void HdGiMesh::Finalize(HdRenderParam* renderParam) {
+    static_cast<HdGiRenderParam*>(renderParam)->EditScene().Remove(GetId());
+}
+
+PXR_NAMESPACE_CLOSE_SCOPE

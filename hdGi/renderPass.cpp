@@ -1,0 +1,104 @@
+#include "renderPass.h"
+
+#include "pxr/imaging/hd/camera.h"
+#include "pxr/imaging/hd/renderIndex.h"
+#include "pxr/imaging/hd/renderPassState.h"
+#include "pxr/imaging/hd/tokens.h"
+#include "renderBuffer.h"
+#include "renderSettings.h"
+
+PXR_NAMESPACE_OPEN_SCOPE
+
+HdGiRenderPass::HdGiRenderPass(HdRenderIndex* index, HdRprimCollection const& collection, HdRenderThread* thread,
+                               HdGiRenderSession* session, HdGiRenderParam* param, std::atomic<bool>* cancel)
+    : HdRenderPass(index, collection), _thread(thread), _session(session), _param(param), _cancel(cancel) {}
+
+HdGiRenderPass::~HdGiRenderPass() { _param->StopRender(); }
+
+bool HdGiRenderPass::IsConverged() const { return _started && _session->IsConverged(); }
+
+namespace {
+
+GfRect2i DataWindow(HdRenderPassStateSharedPtr const& state) {
+    CameraUtilFraming const& framing = state->GetFraming();
+    if (framing.IsValid()) return framing.dataWindow;
+    GfVec4f const vp = state->GetViewport();
+    return GfRect2i(GfVec2i(0), int(vp[2]), int(vp[3]));
+}
+
+gi::CameraDesc CameraOf(HdCamera const* camera, GfMatrix4d const& view, GfMatrix4d const& projection) {
+    gi::CameraDesc desc;
+    desc.name = camera ? camera->GetId().GetString() : "<viewport camera>";
+    desc.transform = HdGiToMat4(view.GetInverse());
+    desc.useInverseProjection = true;
+    desc.inverseProjection = HdGiToMat4(projection.GetInverse());
+    desc.projection = std::round(projection[3][3]) == 1 ? "orthographic" : "perspective";
+    if (camera) {
+        // HdCamera's lengths are in scene units; the renderer's (as UsdGeomCamera's) in tenths.
+        desc.focalLength = camera->GetFocalLength() * 10.0f;
+        desc.fStop = camera->GetFStop();
+        desc.focusDistance = camera->GetFocusDistance();
+        desc.clipNear = camera->GetClippingRange().GetMin();
+        desc.clipFar = camera->GetClippingRange().GetMax();
+    }
+    return desc;
+}
+
+}  // namespace
+
+void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVector const&) {
+    HdRenderDelegate* delegate = GetRenderIndex()->GetRenderDelegate();
+    bool restart = !_started;
+    int sceneVersion = _param->SceneVersion();
+    if (sceneVersion != _sceneVersion) restart = true;
+    if (delegate->GetRenderSettingsVersion() != _settingsVersion) restart = true;
+    GfMatrix4d view = state->GetWorldToViewMatrix(), projection = state->GetProjectionMatrix();
+    if (view != _view || projection != _projection) restart = true;
+    GfRect2i dataWindow = DataWindow(state);
+    if (dataWindow != _dataWindow) restart = true;
+    HdRenderPassAovBindingVector aovs = state->GetAovBindings();
+    for (HdRenderPassAovBinding& aov : aovs)
+        if (!aov.renderBuffer && !aov.renderBufferId.IsEmpty())
+            aov.renderBuffer = static_cast<HdRenderBuffer*>(
+                GetRenderIndex()->GetBprim(HdPrimTypeTokens->renderBuffer, aov.renderBufferId));
+    bool aovsChanged = aovs != _aovs;
+    if (!restart && !aovsChanged) return;
+
+    _param->StopRender();
+    if (aovsChanged) {
+        for (HdRenderPassAovBinding const& aov : aovs) {
+            auto* buffer = dynamic_cast<HdGiRenderBuffer*>(aov.renderBuffer);
+            if (!buffer) continue;
+            double clear = 0;
+            if (aov.clearValue.IsHolding<float>()) clear = aov.clearValue.UncheckedGet<float>();
+            else if (aov.clearValue.IsHolding<int>()) clear = aov.clearValue.UncheckedGet<int>();
+            else if (aov.clearValue.IsHolding<GfVec4f>()) clear = aov.clearValue.UncheckedGet<GfVec4f>()[0];
+            buffer->Clear(float(clear));
+            if (!HdGiIsSupportedAov(aov.aovName))
+                TF_WARN("hdGi: AOV '%s' is not supported; it keeps its clear value", aov.aovName.GetText());
+        }
+    }
+    _sceneVersion = sceneVersion;
+    _settingsVersion = delegate->GetRenderSettingsVersion();
+    _view = view;
+    _projection = projection;
+    _dataWindow = dataWindow;
+    _aovs = aovs;
+
+    HdGiRenderJob job;
+    job.settings = HdGiReadSettings(*delegate);
+    job.camera = CameraOf(state->GetCamera(), view, projection);
+    job.projection = projection;
+    job.dataWindow = dataWindow;
+    job.aovs = aovs;
+    job.domeLightCameraVisibility =
+        delegate->GetRenderSetting<bool>(HdRenderSettingsTokens->domeLightCameraVisibility, true);
+    for (HdRenderPassAovBinding const& aov : aovs)
+        if (auto* buffer = dynamic_cast<HdGiRenderBuffer*>(aov.renderBuffer)) buffer->SetConverged(false);
+    _session->SetJob(job);
+    _cancel->store(false);
+    _thread->StartRender();
+    _started = true;
+}
+
+PXR_NAMESPACE_CLOSE_SCOPE

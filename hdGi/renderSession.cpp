@@ -1,0 +1,144 @@
+#include "renderSession.h"
+
+#include <chrono>
+#include <thread>
+
+#include "pxr/base/tf/diagnostic.h"
+#include "pxr/imaging/hd/renderIndex.h"
+#include "pxr/imaging/hd/tokens.h"
+#include "renderBuffer.h"
+
+PXR_NAMESPACE_OPEN_SCOPE
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double SecondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+// Passes grow to this many samples: large enough to amortise the per-pass resolve, small
+// enough that the image refreshes often.
+constexpr int kMaxPassSamples = 8;
+}  // namespace
+
+bool HdGiIsSupportedAov(TfToken const& name) {
+    static TfToken const albedo("albedo");
+    return name == HdAovTokens->color || name == HdAovTokens->depth || name == HdAovTokens->cameraDepth ||
+           name == HdAovTokens->normal || name == albedo || name == HdAovTokens->primId ||
+           name == HdAovTokens->instanceId || name == HdAovTokens->elementId;
+}
+
+HdGiRenderSession::HdGiRenderSession(HdRenderThread* thread, HdGiRenderParam* param, std::atomic<bool>* cancel)
+    : _thread(thread), _param(param), _cancel(cancel) {}
+
+void HdGiRenderSession::SetJob(HdGiRenderJob const& job) {
+    _job = job;
+    _converged = false;
+}
+
+HdGiSessionStats HdGiRenderSession::Stats() const {
+    std::lock_guard<std::mutex> lock(_statsMutex);
+    return _stats;
+}
+
+void HdGiRenderSession::Run() {
+    auto start = Clock::now();
+    HdGiRenderJob job = _job;
+    HdGiSessionStats stats;
+    if (job.aovs.empty() || job.dataWindow.IsEmpty()) return;
+
+    int version = _param->SceneVersion();
+    if (!_scene || version != _sceneVersion || job.domeLightCameraVisibility != _sceneDomeVisible) {
+        auto buildStart = Clock::now();
+        _scene = _param->Store().Build(&_ids, job.domeLightCameraVisibility);
+        _sceneVersion = version;
+        _sceneDomeVisible = job.domeLightCameraVisibility;
+        stats.sceneBuildSeconds = SecondsSince(buildStart);
+    }
+
+    gi::RenderSettings settings = job.settings;
+    settings.width = job.dataWindow.GetWidth();
+    settings.height = job.dataWindow.GetHeight();
+    std::unique_ptr<gi::Renderer> renderer;
+    try {
+        renderer = std::make_unique<gi::Renderer>(*_scene, settings, &job.camera);
+    } catch (std::exception const& e) {
+        TF_RUNTIME_ERROR("hdGi: cannot render: %s", e.what());
+        return;
+    }
+    int target = std::max(1, settings.spp), taken = 0, pass = 1;
+    bool converged = false;
+    while (!_thread->IsStopRequested()) {
+        if (_thread->IsPauseRequested()) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            continue;
+        }
+        int count = std::min(pass, target - taken);
+        if (!renderer->renderPass(taken, count, _cancel)) continue;  // paused or stopped mid-pass
+        taken += count;
+        bool timeUp = settings.timeLimit > 0 && SecondsSince(start) >= settings.timeLimit;
+        converged = taken >= target || timeUp;
+        if (stats.firstPixelSeconds == 0) stats.firstPixelSeconds = SecondsSince(start);
+        _WriteAovs(*renderer, job, converged);
+        stats.samples = taken;
+        stats.rays = renderer->stats().rays;
+        stats.renderSeconds = SecondsSince(start);
+        stats.converged = converged;
+        {
+            std::lock_guard<std::mutex> lock(_statsMutex);
+            _stats = stats;
+        }
+        if (converged) break;
+        pass = std::min(pass * 2, kMaxPassSamples);
+    }
+    _converged = converged;
+}
+
+namespace {
+
+HdGiRenderBuffer* BufferOf(HdRenderPassAovBinding const& aov) { return dynamic_cast<HdGiRenderBuffer*>(aov.renderBuffer); }
+
+// Camera-space depth to Hydra's clip-space depth in [0, 1] (row-vector projection matrix).
+float ClipDepth(GfMatrix4d const& p, float viewDepth) {
+    double z = -viewDepth;
+    double clipZ = z * p[2][2] + p[3][2], clipW = z * p[2][3] + p[3][3];
+    return clipW != 0 ? float(std::clamp((clipZ / clipW + 1) * 0.5, 0.0, 1.0)) : 1.0f;
+}
+
+}  // namespace
+
+void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged) {
+    gi::Film const& film = renderer.film();
+    GfRect2i const& window = job.dataWindow;
+    for (HdRenderPassAovBinding const& aov : job.aovs) {
+        HdGiRenderBuffer* buffer = BufferOf(aov);
+        if (!buffer) continue;
+        TfToken const& name = aov.aovName;
+        if (name == HdAovTokens->color) {
+            buffer->WriteFloats(film.color().data(), 3, window, 1.0f);
+        } else if (name == HdAovTokens->depth || name == HdAovTokens->cameraDepth) {
+            std::vector<float> depth = film.depth();
+            for (float& d : depth) {
+                bool hit = std::isfinite(d);
+                if (name == HdAovTokens->depth) d = hit ? ClipDepth(job.projection, d) : 1.0f;
+                else d = hit ? d : 0.0f;
+            }
+            buffer->WriteFloats(depth.data(), 1, window, 0.0f);
+        } else if (name == HdAovTokens->normal) {
+            buffer->WriteFloats(film.normal().data(), 3, window, 0.0f);
+        } else if (name == TfToken("albedo")) {
+            buffer->WriteFloats(film.albedo().data(), 3, window, 0.0f);
+        } else if (name == HdAovTokens->primId) {
+            std::vector<int32_t> ids = film.shapeIds();
+            for (int32_t& id : ids)
+                id = id >= 0 && size_t(id) < _ids.shapePrimId.size() ? _ids.shapePrimId[size_t(id)] : -1;
+            buffer->WriteInts(ids.data(), window);
+        } else if (name == HdAovTokens->instanceId) {
+            std::vector<int32_t> ids = film.instanceIds();
+            for (int32_t& id : ids)
+                id = id >= 0 && size_t(id) < _ids.instanceIndex.size() ? _ids.instanceIndex[size_t(id)] : -1;
+            buffer->WriteInts(ids.data(), window);
+        }
+        // Anything else (elementId, unsupported AOVs) keeps its clear value.
+        buffer->SetConverged(converged);
+    }
+}
+
+PXR_NAMESPACE_CLOSE_SCOPE

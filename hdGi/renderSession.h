@@ -1,0 +1,64 @@
+// The render thread's work: (re)build the renderer's scene when Hydra changed it, then render
+// passes of the requested integrator into the bound AOV buffers until the samples or the time
+// limit are done. Stop and pause reach the renderer through `cancel`, checked between tiles.
+#pragma once
+#include <atomic>
+#include <memory>
+#include <mutex>
+
+#include "pxr/base/gf/matrix4d.h"
+#include "pxr/base/gf/rect2i.h"
+#include "pxr/imaging/hd/renderPassState.h"
+#include "pxr/imaging/hd/renderThread.h"
+#include "pxr/pxr.h"
+#include "renderParam.h"
+#include "renderer/render.h"
+
+PXR_NAMESPACE_OPEN_SCOPE
+
+// Everything one render depends on besides the scene.
+struct HdGiRenderJob {
+    gi::RenderSettings settings;
+    gi::CameraDesc camera;
+    GfMatrix4d projection{1.0};  // for the depth AOV (clip-space depth)
+    GfRect2i dataWindow;
+    HdRenderPassAovBindingVector aovs;
+    bool domeLightCameraVisibility = true;
+};
+
+struct HdGiSessionStats {
+    double sceneBuildSeconds = 0, firstPixelSeconds = 0, renderSeconds = 0;
+    int samples = 0;
+    uint64_t rays = 0;
+    bool converged = false;
+};
+
+// AOVs the film fills (color, depth, cameraDepth, normal, albedo, primId, instanceId).
+bool HdGiIsSupportedAov(TfToken const& name);
+
+class HdGiRenderSession {
+public:
+    HdGiRenderSession(HdRenderThread* thread, HdGiRenderParam* param, std::atomic<bool>* cancel);
+    // Called with the render thread stopped.
+    void SetJob(HdGiRenderJob const& job);
+    void Run();  // the render thread's callback
+    bool IsConverged() const { return _converged.load(); }
+    HdGiSessionStats Stats() const;
+
+private:
+    void _WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged);
+
+    HdRenderThread* _thread;
+    HdGiRenderParam* _param;
+    std::atomic<bool>* _cancel;
+    HdGiRenderJob _job;
+    std::unique_ptr<gi::Scene> _scene;
+    HdGiIdMap _ids;
+    int _sceneVersion = -1;
+    bool _sceneDomeVisible = true;
+    std::atomic<bool> _converged{false};
+    mutable std::mutex _statsMutex;
+    HdGiSessionStats _stats;
+};
+
+PXR_NAMESPACE_CLOSE_SCOPE

@@ -1,0 +1,149 @@
+#include "sceneStore.h"
+
+#include "pxr/base/tf/diagnostic.h"
+
+PXR_NAMESPACE_OPEN_SCOPE
+
+gi::Mat4 HdGiToMat4(GfMatrix4d const& m) { return gi::Mat4::fromRowMajor(m.data()); }
+
+void HdGiSceneStore::SetGeometry(SdfPath const& id, std::shared_ptr<const HdGiGeometry> geometry) {
+    std::lock_guard<std::mutex> lock(_mutex);
+    if (geometry) _geometry[id] = std::move(geometry);
+    else _geometry.erase(id);
+}
+
+void HdGiSceneStore::SetLight(SdfPath const& id, std::shared_ptr<const gi::LightDesc> light) {
+    std::lock_guard<std::mutex> lock(_mutex);
+    if (light) _lights[id] = std::move(light);
+    else _lights.erase(id);
+}
+
+void HdGiSceneStore::SetMaterial(SdfPath const& id, std::shared_ptr<const gi::MaterialDesc> material) {
+    std::lock_guard<std::mutex> lock(_mutex);
+    if (material) _materials[id] = std::move(material);
+    else _materials.erase(id);
+}
+
+void HdGiSceneStore::Remove(SdfPath const& id) {
+    std::lock_guard<std::mutex> lock(_mutex);
+    _geometry.erase(id);
+    _lights.erase(id);
+    _materials.erase(id);
+}
+
+size_t HdGiSceneStore::GeometryCount() const {
+    std::lock_guard<std::mutex> lock(_mutex);
+    return _geometry.size();
+}
+
+namespace {
+
+// Materials are added to the scene once each, on first use (textures of unused materials are
+// never read); meshes without one use their displayColor, as every Hydra renderer does.
+class MaterialBinder {
+public:
+    MaterialBinder(gi::Scene& scene, std::map<SdfPath, std::shared_ptr<const gi::MaterialDesc>> const& materials)
+        : _scene(scene), _materials(materials) {}
+
+    // `piece` overrides the prim's material (a GeomSubset's binding) when not empty.
+    int Bind(HdGiGeometry const& g, SdfPath const& piece) {
+        SdfPath const& path = piece.IsEmpty() ? g.material : piece;
+        if (!path.IsEmpty()) {
+            auto it = _materials.find(path);
+            if (it != _materials.end()) {
+                auto [slot, inserted] = _ids.emplace(path.GetString(), -1);
+                if (inserted) slot->second = _scene.addMaterial(*it->second);
+                if (slot->second >= 0) return slot->second;
+            }
+        }
+        GfVec3f c = g.hasDisplayColor ? g.displayColor : GfVec3f(0.18f);
+        std::string key = "displayColor:" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," +
+                          std::to_string(c[2]);
+        auto [slot, inserted] = _ids.emplace(key, -1);
+        if (inserted) {
+            gi::MaterialDesc desc;
+            desc.name = g.name + ".primvars:displayColor";
+            desc.diffuseColor = gi::Color(c[0], c[1], c[2]);
+            slot->second = _scene.addMaterial(desc);
+        }
+        return slot->second;
+    }
+
+private:
+    gi::Scene& _scene;
+    std::map<SdfPath, std::shared_ptr<const gi::MaterialDesc>> const& _materials;
+    std::map<std::string, int> _ids;
+};
+
+// Adds the prim's shapes (a sphere, or one mesh per material piece); returns their ids.
+std::vector<int> AddShapes(gi::Scene& scene, HdGiGeometry const& g, MaterialBinder& binder, gi::Mat4 const& transform,
+                           int prototype) {
+    std::vector<int> shapes;
+    if (g.isSphere) {
+        shapes.push_back(scene.addSphere(g.name, gi::Vec3(0.0f), g.radius, binder.Bind(g, SdfPath()), &transform,
+                                         prototype));
+        return shapes;
+    }
+    for (size_t i = 0; i < g.pieces.size(); ++i) {
+        HdGiTriangleMesh const& m = *g.pieces[i];
+        if (m.indices.empty()) continue;
+        SdfPath material = i < g.pieceMaterials.size() ? g.pieceMaterials[i] : SdfPath();
+        std::string name = g.pieces.size() > 1 && !material.IsEmpty() ? g.name + " (" + material.GetString() + ")" : g.name;
+        shapes.push_back(scene.addMesh(name, m.points, m.indices, m.normals, m.uvs, binder.Bind(g, material), &transform,
+                                       g.doubleSided, prototype));
+    }
+    return shapes;
+}
+
+void Record(std::vector<int>& map, int index, int value) {
+    if (index < 0) return;
+    if (map.size() <= size_t(index)) map.resize(size_t(index) + 1, -1);
+    map[size_t(index)] = value;
+}
+
+}  // namespace
+
+std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightCameraVisibility) const {
+    // Snapshot under the lock (records are immutable once stored), build outside it.
+    std::vector<std::shared_ptr<const HdGiGeometry>> geometry;
+    std::vector<std::shared_ptr<const gi::LightDesc>> lights;
+    std::map<SdfPath, std::shared_ptr<const gi::MaterialDesc>> materials;
+    {
+        std::lock_guard<std::mutex> lock(_mutex);
+        for (auto const& [path, g] : _geometry) geometry.push_back(g);
+        for (auto const& [path, l] : _lights) lights.push_back(l);
+        materials = _materials;
+    }
+    auto scene = std::make_unique<gi::Scene>();
+    MaterialBinder binder(*scene, materials);
+    HdGiIdMap map;
+    for (auto const& g : geometry) {
+        if (!g->instanced) {
+            for (int shape : AddShapes(*scene, *g, binder, HdGiToMat4(g->transform), -1))
+                Record(map.shapePrimId, shape, g->primId);
+            continue;
+        }
+        if (g->instanceTransforms.empty()) continue;
+        // Instances share one Embree prototype: the rprim's own transform inside it, the
+        // instancer's on top (Hydra's order: world = transform * instance).
+        int prototype = scene->addPrototype(g->name);
+        std::vector<int> shapes = AddShapes(*scene, *g, binder, HdGiToMat4(g->transform), prototype);
+        for (int shape : shapes) Record(map.shapePrimId, shape, g->primId);
+        for (size_t i = 0; i < g->instanceTransforms.size(); ++i) {
+            int instance = scene->addInstance(prototype, HdGiToMat4(g->instanceTransforms[i]),
+                                              g->name + "[" + std::to_string(i) + "]");
+            Record(map.instanceIndex, instance, int(i));
+        }
+    }
+    for (auto const& l : lights) {
+        gi::LightDesc light = *l;
+        if (light.kind == "dome" && !domeLightCameraVisibility) light.visibleToCamera = false;
+        scene->addLight(light);
+    }
+    scene->commit();
+    for (std::string const& w : scene->warnings()) TF_WARN("hdGi: %s", w.c_str());
+    if (ids) *ids = std::move(map);
+    return scene;
+}
+
+PXR_NAMESPACE_CLOSE_SCOPE

@@ -1,0 +1,73 @@
+// What Hydra has synced, translated to the renderer's descriptions: one record per rprim,
+// light and material. Sync calls (in parallel, from Hydra's threads) replace records; the
+// render thread builds a gi::Scene from a consistent snapshot when the version has changed.
+#pragma once
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "pxr/base/gf/matrix4d.h"
+#include "pxr/base/gf/vec3f.h"
+#include "pxr/pxr.h"
+#include "pxr/usd/sdf/path.h"
+#include "renderer/scene.h"
+
+PXR_NAMESPACE_OPEN_SCOPE
+
+// Triangles in object space: per-vertex data, three indices per triangle.
+struct HdGiTriangleMesh {
+    std::vector<gi::Vec3> points, normals;
+    std::vector<gi::Vec2> uvs;
+    std::vector<uint32_t> indices;
+};
+
+struct HdGiGeometry {
+    std::string name;
+    bool isSphere = false;
+    float radius = 0;  // spheres
+    // Meshes: one piece per material (the prim's own, then each GeomSubset's); an empty
+    // material path means the prim's binding.
+    std::vector<std::shared_ptr<const HdGiTriangleMesh>> pieces;
+    std::vector<SdfPath> pieceMaterials;
+    GfMatrix4d transform{1.0};
+    // Instancer transforms (world = transform * instance). Empty and !instanced: one copy.
+    bool instanced = false;
+    std::vector<GfMatrix4d> instanceTransforms;
+    SdfPath material;
+    bool hasDisplayColor = false;
+    GfVec3f displayColor{0.18f};
+    bool doubleSided = true;
+    int primId = -1;  // Hydra's id for picking
+};
+
+// Ids the film reports, mapped back to Hydra's: shape -> primId, scene instance -> index.
+struct HdGiIdMap {
+    std::vector<int> shapePrimId;
+    std::vector<int> instanceIndex;
+};
+
+class HdGiSceneStore {
+public:
+    void SetGeometry(SdfPath const& id, std::shared_ptr<const HdGiGeometry> geometry);
+    void SetLight(SdfPath const& id, std::shared_ptr<const gi::LightDesc> light);
+    void SetMaterial(SdfPath const& id, std::shared_ptr<const gi::MaterialDesc> material);
+    void Remove(SdfPath const& id);
+
+    // A committed scene of everything visible now, with the id maps for the film's AOVs.
+    // `domeLightCameraVisibility` false hides dome lights from camera rays (a render setting).
+    std::unique_ptr<gi::Scene> Build(HdGiIdMap* ids, bool domeLightCameraVisibility = true) const;
+
+    size_t GeometryCount() const;
+
+private:
+    mutable std::mutex _mutex;
+    std::map<SdfPath, std::shared_ptr<const HdGiGeometry>> _geometry;
+    std::map<SdfPath, std::shared_ptr<const gi::LightDesc>> _lights;
+    std::map<SdfPath, std::shared_ptr<const gi::MaterialDesc>> _materials;
+};
+
+gi::Mat4 HdGiToMat4(GfMatrix4d const& m);
+
+PXR_NAMESPACE_CLOSE_SCOPE

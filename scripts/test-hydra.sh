@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Builds the hdGi plugin against an OpenUSD build with imaging and runs the Hydra tests
+# (usdrecord, incremental edits, every integrator through the render settings).
+# Usage: scripts/test-hydra.sh [OPENUSD_PREFIX]   (default $GI_OPENUSD_ROOT, else /opt/openusd)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+openusd=${1:-${GI_OPENUSD_ROOT:-/opt/openusd}}
+build=build/hydra
+launcher=()
+command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -Dpxr_DIR="$openusd" \
+  -DGI_BUILD_PYTHON=OFF -DGI_BUILD_TESTS=OFF "${launcher[@]}" > "$build.configure.log" || {
+  cat "$build.configure.log"; exit 1; }
+grep "hdGi:" "$build.configure.log" || true
+cmake --build "$build" --target hdGi
+export GI_OPENUSD_ROOT=$openusd
+export GI_HYDRA_PLUGIN=$PWD/$build/hdGi-plugin/hdGi/resources
+.venv/bin/python -m pytest -q tests/hydra
