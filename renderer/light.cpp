@@ -474,7 +474,13 @@ std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
         light = std::make_unique<CylinderLight>(m.point(Vec3(0.0f)), axis, h, r, L);
     } else if (d.kind == "distant") {
         float halfAngle = std::clamp(d.angle, 0.0f, 180.0f) * 0.5f * kPi / 180.0f;
-        light = std::make_unique<DistantLight>(normalize(m.vector(Vec3(0, 0, 1))), halfAngle, L);
+        // UsdLux: the intensity is the radiance of the light's disc (the schema's default of
+        // 50000 at 0.53 degrees approximates the sun); `normalize` makes it the irradiance at
+        // normal incidence instead, whatever the angular size. A delta light has only the latter.
+        Color irradiance = L;
+        float s = std::sin(std::min(halfAngle, 0.5f * kPi));
+        if (!d.normalize && halfAngle >= 1e-5f) irradiance = L * (kPi * s * s);
+        light = std::make_unique<DistantLight>(normalize(m.vector(Vec3(0, 0, 1))), halfAngle, irradiance);
     } else if (d.kind == "dome") {
         std::shared_ptr<Image> image;
         if (!d.textureFile.empty()) {

@@ -67,6 +67,7 @@ TEST(Host, FilmReportsShapeAndInstanceIds) {
     int instance = scene.addInstance(prototype, at, "/Proto[0]");
     LightDesc sun;
     sun.kind = "distant";
+    sun.angle = 0;
     scene.addLight(sun);
     scene.setCamera(lookingDown({0, 5, 0}, true, 40));
     scene.commit();
@@ -90,6 +91,7 @@ TEST(Host, CancelledPassLeavesTheFilmAsItWas) {
     addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, white);
     LightDesc sun;
     sun.kind = "distant";
+    sun.angle = 0;
     scene.addLight(sun);
     scene.setCamera(lookingDown({0, 5, 0}, true, 40));
     scene.commit();

@@ -81,15 +81,28 @@ TEST(Lights, ConstantDomeGivesPiL) {
     EXPECT_NEAR(floorValue(l, "path", 512, {{"pathDepth", 1}}), expected, 0.01 * expected);
 }
 
-TEST(Lights, DistantLightWithAngularSizeKeepsItsIrradiance) {
+TEST(Lights, NormalizedDistantLightKeepsItsIrradiance) {
     LightDesc l;
     l.name = "/Sun";
     l.kind = "distant";
-    l.angle = 10;  // degrees: a wide sun still delivers `intensity` at normal incidence
+    l.angle = 10;  // degrees: a wide normalized sun still delivers `intensity` at normal incidence
     l.intensity = 2;
+    l.normalize = true;
     l.transform = facingDown(0);
     // The cone's radiance is E / (pi sin^2(half angle)), whose cosine-weighted integral is E again.
     double expected = kAlbedo / kPi * 2;
+    EXPECT_NEAR(floorValue(l, "direct", 256), expected, 0.005 * expected);
+}
+
+TEST(Lights, DistantLightIntensityIsTheRadianceOfItsDisc) {
+    LightDesc l;
+    l.name = "/Sun";
+    l.kind = "distant";
+    l.angle = 10;
+    l.intensity = 2;  // radiance; irradiance = 2 * pi sin^2(5 degrees)
+    l.transform = facingDown(0);
+    double s = std::sin(5 * kPi / 180);
+    double expected = kAlbedo / kPi * 2 * kPi * s * s;
     EXPECT_NEAR(floorValue(l, "direct", 256), expected, 0.005 * expected);
 }
 
