@@ -280,6 +280,22 @@ def add_study_parser(commands, flags):
     add_common_render_options(study, "the reference's")
 
 
+def add_import_parser(commands):
+    imp = commands.add_parser(
+        "import", help="convert an OBJ or glTF file to USD (meshes, UsdPreviewSurface materials, textures)",
+        description="Converts a Wavefront OBJ/MTL or glTF 2.0 file into a USD layer. Textures are referenced "
+                    "where they are (relative to the output), never copied. SOURCE may be a path or a path "
+                    "inside the asset folder (--assets, $GI_ASSETS, default ../shared/assets).")
+    imp.add_argument("source", help="an .obj, .gltf or .glb file")
+    imp.add_argument("-o", "--output", required=True, help="USD file to write (.usdc, .usda or .usd)")
+    imp.add_argument("--assets", metavar="DIR", help="asset folder (default: $GI_ASSETS, else ../shared/assets)")
+    imp.add_argument("--up-axis", choices=["Y", "Z"], default="Y", help="the source's up axis (default Y)")
+    imp.add_argument("--meters-per-unit", type=float, default=1.0, help="the source's unit in metres (default 1)")
+    imp.add_argument("--absolute-paths", action="store_true",
+                     help="write absolute texture paths (default: relative to the output file)")
+    imp.add_argument("--name", help="name of the root prim (default: the source's file name)")
+
+
 def build_parser():
     """(parser, its render subparser, the integrator flags)."""
     parser = argparse.ArgumentParser(prog="gi", description="hdGi: CPU global illumination for USD scenes")
@@ -291,6 +307,7 @@ def build_parser():
     inspect.add_argument("scene", help="a USD file")
     add_reference_parser(commands)
     add_study_parser(commands, flags)
+    add_import_parser(commands)
     return parser, render, flags
 
 
@@ -306,6 +323,9 @@ def main(argv=None):
         if args.command == "study":
             from .study import cmd_study
             return cmd_study(args)
+        if args.command == "import":
+            from .importer import cmd_import
+            return cmd_import(args)
         return cmd_inspect(args)
     except (SceneError, CoreMissing, ValueError) as error:  # ValueError: the renderer rejects a setting
         print(f"gi: error: {error}", file=sys.stderr)

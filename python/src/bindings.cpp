@@ -443,9 +443,12 @@ void bindRendering(nb::module_& m) {
 
 }  // namespace
 
+void bindImport(nb::module_& m);  // import_bindings.cpp: read_obj, read_gltf
+
 NB_MODULE(_core, m) {
     m.doc() = "hdGi's CPU global-illumination renderer";
     bindDescriptors(m);
     bindScene(m);
     bindRendering(m);
+    bindImport(m);
 }
