@@ -73,8 +73,9 @@ VtDictionary HdGiRenderDelegate::GetRenderStats() const {
     stats["samples"] = s.samples;
     stats["rays"] = double(s.rays);
     stats["converged"] = s.converged;
+    stats["lastTileTime"] = s.lastTileTime;
     // usdview's HUD shows this key.
-    stats["percentDone"] = double(s.samples);
+    stats["percentDone"] = s.targetSamples > 0 ? 100.0 * s.samples / s.targetSamples : 0.0;
     return stats;
 }
 

@@ -35,7 +35,9 @@ void HdGiRenderSession::SetJob(HdGiRenderJob const& job) {
 
 HdGiSessionStats HdGiRenderSession::Stats() const {
     std::lock_guard<std::mutex> lock(_statsMutex);
-    return _stats;
+    HdGiSessionStats stats = _stats;
+    if (_active) stats.lastTileTime = std::max(stats.lastTileTime, _active->lastTileTime());
+    return stats;
 }
 
 void HdGiRenderSession::Run() {
@@ -63,6 +65,10 @@ void HdGiRenderSession::Run() {
         TF_RUNTIME_ERROR("hdGi: cannot render: %s", e.what());
         return;
     }
+    {
+        std::lock_guard<std::mutex> lock(_statsMutex);
+        _active = renderer.get();
+    }
     int target = std::max(1, settings.spp), taken = 0, pass = 1;
     bool converged = false;
     while (!_thread->IsStopRequested()) {
@@ -78,6 +84,7 @@ void HdGiRenderSession::Run() {
         if (stats.firstPixelSeconds == 0) stats.firstPixelSeconds = SecondsSince(start);
         _WriteAovs(*renderer, job, converged);
         stats.samples = taken;
+        stats.targetSamples = target;
         stats.rays = renderer->stats().rays;
         stats.renderSeconds = SecondsSince(start);
         stats.converged = converged;
@@ -88,6 +95,9 @@ void HdGiRenderSession::Run() {
         if (converged) break;
         pass = std::min(pass * 2, kMaxPassSamples);
     }
+    std::lock_guard<std::mutex> lock(_statsMutex);
+    _stats.lastTileTime = std::max(_stats.lastTileTime, renderer->lastTileTime());
+    _active = nullptr;
     _converged = converged;
 }
 

@@ -28,7 +28,8 @@ struct HdGiRenderJob {
 
 struct HdGiSessionStats {
     double sceneBuildSeconds = 0, firstPixelSeconds = 0, renderSeconds = 0;
-    int samples = 0;
+    double lastTileTime = 0;  // steady_clock seconds: when the renderer last finished a tile
+    int samples = 0, targetSamples = 0;
     uint64_t rays = 0;
     bool converged = false;
 };
@@ -59,6 +60,7 @@ private:
     std::atomic<bool> _converged{false};
     mutable std::mutex _statsMutex;
     HdGiSessionStats _stats;
+    gi::Renderer const* _active = nullptr;  // guarded by _statsMutex
 };
 
 PXR_NAMESPACE_CLOSE_SCOPE

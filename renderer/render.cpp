@@ -50,6 +50,10 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
     info_ = info;
     integrator_ = info->create(settings.params);
     CameraDesc desc = camera ? *camera : scene.hasCamera() ? scene.cameraDesc() : defaultCamera(scene);
+    if (!desc.transform.isFinite() || desc.transform.det3() == 0) {
+        scene.warn("camera " + desc.name + ": NaN, Inf or singular transform; using a camera that frames the scene");
+        desc = defaultCamera(scene);
+    }
     camera_ = Camera(desc, settings.width, settings.height);
 }
 
@@ -117,6 +121,8 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
                     }
             tiles[t] = std::move(tile);
             int finished = ++done;
+            lastTileTime_.store(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(),
+                                std::memory_order_relaxed);
             double target = std::max(1, settings_.spp);
             progress_.store(std::min(1.0, (firstSample + double(finished) / tileCount * count) / target),
                             std::memory_order_relaxed);

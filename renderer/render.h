@@ -46,6 +46,9 @@ public:
     void render(const std::atomic<bool>* cancel = nullptr);
     // Fraction of settings.spp done, updated after every tile; safe to read from any thread.
     double progress() const { return progress_.load(std::memory_order_relaxed); }
+    // steady_clock time (seconds since its epoch) when the last tile finished: lets a host check
+    // that a stop or pause request actually stopped the work.
+    double lastTileTime() const { return lastTileTime_.load(std::memory_order_relaxed); }
 
     const Film& film() const { return film_; }
     const RenderStats& stats() const { return stats_; }
@@ -64,6 +67,7 @@ private:
     int samplesTaken_ = 0;
     bool preprocessed_ = false;
     std::atomic<double> progress_{0};
+    std::atomic<double> lastTileTime_{0};
 };
 
 size_t peakResidentMemoryBytes();
