@@ -12,8 +12,12 @@ constexpr float kTenthOfUnit = 0.1f;
 Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), width_(width), height_(height) {
     orthographic_ = desc.projection == "orthographic";
     float focal = desc.focalLength > 0 && std::isfinite(desc.focalLength) ? desc.focalLength : 50.0f;
-    float ha = desc.horizontalAperture > 0 ? desc.horizontalAperture : 20.955f;
-    float va = desc.verticalAperture > 0 ? desc.verticalAperture : 15.2908f;
+    // NaN/Inf lens values fall back to UsdGeomCamera's defaults (the renderer warns about the
+    // transform; see Renderer); no setting may turn into a NaN ray.
+    auto positive = [](float v, float fallback) { return v > 0 && std::isfinite(v) ? v : fallback; };
+    auto finiteOr = [](float v, float fallback) { return std::isfinite(v) ? v : fallback; };
+    float ha = positive(desc.horizontalAperture, 20.955f);
+    float va = positive(desc.verticalAperture, 15.2908f);
     float imageAspect = float(width) / float(height);
     // expandAperture: grow whichever aperture is too small for the image's aspect ratio.
     if (ha / va < imageAspect) ha = va * imageAspect;
@@ -21,15 +25,18 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
     float scale = orthographic_ ? kTenthOfUnit : 1.0f / focal;
     halfWidth_ = 0.5f * ha * scale;
     halfHeight_ = 0.5f * va * scale;
-    offsetX_ = desc.horizontalApertureOffset * scale;
-    offsetY_ = desc.verticalApertureOffset * scale;
-    if (desc.fStop > 0 && desc.focusDistance > 0 && !orthographic_) {
+    offsetX_ = finiteOr(desc.horizontalApertureOffset, 0) * scale;
+    offsetY_ = finiteOr(desc.verticalApertureOffset, 0) * scale;
+    desc_.clipNear = desc.clipNear >= 0 && std::isfinite(desc.clipNear) ? desc.clipNear : 0.0f;
+    desc_.clipFar = desc.clipFar > desc_.clipNear ? desc.clipFar : 1e30f;  // NaN too
+    if (!desc.transform.isFinite()) desc_.transform = Mat4();
+    if (positive(desc.fStop, 0) > 0 && positive(desc.focusDistance, 0) > 0 && !orthographic_) {
         lensRadius_ = focal * kTenthOfUnit / (2 * desc.fStop);
         focusDistance_ = desc.focusDistance;
     }
-    useInverseProjection_ = desc.useInverseProjection;
-    position_ = desc.transform.point(Vec3(0.0f));
-    forward_ = normalize(desc.transform.vector(Vec3(0, 0, -1)));
+    useInverseProjection_ = desc.useInverseProjection && desc.inverseProjection.isFinite();
+    position_ = desc_.transform.point(Vec3(0.0f));
+    forward_ = normalize(desc_.transform.vector(Vec3(0, 0, -1)));
 }
 
 Ray Camera::generateRay(float filmX, float filmY, Vec2 lens) const {

@@ -8,6 +8,14 @@
 
 namespace gi {
 
+// Embree accepts only coordinates of magnitude below ~1.8e18 (its FLT_LARGE); beyond that, or
+// with a NaN, its behaviour is undefined (debug builds assert).
+constexpr float kMaxEmbreeCoordinate = 1e18f;
+inline bool embreeValid(const Vec3& v) {
+    return std::fabs(v.x) < kMaxEmbreeCoordinate && std::fabs(v.y) < kMaxEmbreeCoordinate &&
+           std::fabs(v.z) < kMaxEmbreeCoordinate;  // false for NaN too
+}
+
 inline RTCRay toEmbreeRay(const Vec3& o, const Vec3& d, float tMin, float tMax) {
     RTCRay r;
     r.org_x = o.x, r.org_y = o.y, r.org_z = o.z;

@@ -437,6 +437,10 @@ std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
         return nullptr;
     }
     Color L = baseRadiance(d);
+    if (!isFinite(L)) {
+        warning = "light " + d.name + ": color x intensity x 2^exposure overflows a float; ignored";
+        return nullptr;
+    }
     if (!(maxComponent(L) > 0)) {
         warning = "light " + d.name + ": zero or negative intensity; ignored";
         return nullptr;
@@ -450,6 +454,11 @@ std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
             return false;
         }
         if (d.normalize) L = L / area;
+        if (!isFinite(L)) {
+            warning = "light " + d.name + ": normalized radiance overflows a float (area " + std::to_string(area) +
+                      "); ignored";
+            return false;
+        }
         return true;
     };
     if (d.kind == "rect") {

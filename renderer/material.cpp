@@ -21,14 +21,31 @@ Material::Material(const MaterialDesc& desc, const TextureBinder& bindTexture) :
     bind(metallicTex_, desc.metallicTexture, "metallic");
     bind(roughnessTex_, desc.roughnessTexture, "roughness");
     bind(opacity_, desc.opacityTexture, "opacity");
-    desc_.diffuseColor = sanitize(desc.diffuseColor);
-    desc_.emissiveColor = sanitize(desc.emissiveColor);
-    desc_.specularColor = sanitize(desc.specularColor);
-    desc_.metallic = sanitize01(desc.metallic, 0);
-    desc_.roughness = sanitize01(desc.roughness, 0.5f);
-    desc_.clearcoat = sanitize01(desc.clearcoat, 0);
-    desc_.clearcoatRoughness = sanitize01(desc.clearcoatRoughness, 0.01f);
-    desc_.opacity = sanitize01(desc.opacity, 1);
+    // NaN, Inf and negative inputs are replaced (and named in repairedInputs(), so the scene can
+    // warn); values merely outside [0, 1] are clamped silently, as UsdPreviewSurface says.
+    auto color = [&](Color c, const char* input) {
+        if (!isFinite(c) || c.x < 0 || c.y < 0 || c.z < 0) repaired_.push_back(input);
+        return sanitize(c);
+    };
+    auto unit = [&](float v, float fallback, const char* input) {
+        if (!std::isfinite(v)) repaired_.push_back(input);
+        return sanitize01(v, fallback);
+    };
+    desc_.diffuseColor = color(desc.diffuseColor, "diffuseColor");
+    desc_.emissiveColor = color(desc.emissiveColor, "emissiveColor");
+    desc_.specularColor = color(desc.specularColor, "specularColor");
+    desc_.metallic = unit(desc.metallic, 0, "metallic");
+    desc_.roughness = unit(desc.roughness, 0.5f, "roughness");
+    desc_.clearcoat = unit(desc.clearcoat, 0, "clearcoat");
+    desc_.clearcoatRoughness = unit(desc.clearcoatRoughness, 0.01f, "clearcoatRoughness");
+    desc_.opacity = unit(desc.opacity, 1, "opacity");
+    desc_.opacityThreshold = unit(desc.opacityThreshold, 0, "opacityThreshold");
+    // An index of refraction must be a positive finite number; 1e-3..1e3 keeps Fresnel and
+    // refraction in float range.
+    if (!(desc.ior >= 1e-3f && desc.ior <= 1e3f)) {
+        repaired_.push_back("ior");
+        desc_.ior = 1.5f;
+    }
     emissive_ = maxComponent(desc_.emissiveColor) > 0 || emissiveTex_.valid();
     hasPresence_ = desc_.opacityMode == "presence" || desc_.opacityThreshold > 0;
     // Caustic paths need a smooth reflector or a transmitter somewhere; rough lobes blur them

@@ -2,6 +2,7 @@
 #pragma once
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "bsdf.h"
 #include "texture.h"
@@ -45,6 +46,8 @@ public:
     bool isSpecular() const { return specular_; }
     bool transmits() const { return desc_.opacityMode == "transparent" && (desc_.opacity < 1 || opacity_.valid()); }
     const MaterialDesc& desc() const { return desc_; }
+    // Inputs whose NaN, Inf or negative values were replaced by defaults.
+    const std::vector<std::string>& repairedInputs() const { return repaired_; }
 
 private:
     MaterialDesc desc_;
@@ -52,6 +55,7 @@ private:
     bool emissive_ = false;
     bool hasPresence_ = false;
     bool specular_ = false;
+    std::vector<std::string> repaired_;
 };
 
 }  // namespace gi

@@ -196,10 +196,18 @@ struct Ray {
 // Offsets a ray origin off a surface along the geometric normal, scaled with the magnitude
 // of the position so that far-from-origin scenes do not self-intersect (pbrt's error-bound
 // idea, with a conservative constant instead of tracked bounds).
-inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& ng, const Vec3& dir) {
+// How far a computed surface point may be from the true surface: a hit point reconstructed from
+// barycentrics (or re-projected onto a sphere) is good to a few float ulps of its largest
+// coordinate, so 8 ulps (2^-20 relative) clear it; the absolute term covers points near the
+// origin on larger triangles. Scenes far from the origin (10^5) get offsets of ~0.1 unit, not the
+// whole units a fixed relative 1e-5 gave; scenes at 10^-3 scale stay well above 1e-7.
+inline float pointErrorBound(const Vec3& p) {
     float magnitude = std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z)));
-    float eps = magnitude * 1e-5f + 1e-7f;
-    Vec3 offset = ng * eps;
+    return magnitude * 0x1p-20f + 1e-7f;
+}
+
+inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& ng, const Vec3& dir) {
+    Vec3 offset = ng * pointErrorBound(p);
     return dot(dir, ng) < 0 ? p - offset : p + offset;
 }
 

@@ -88,17 +88,18 @@ int Scene::addMesh(const std::string& name, std::vector<Vec3> positions, std::ve
         warn("mesh " + name + ": st has the wrong length; ignored");
         uvs.clear();
     }
-    // Bake the transform into top-level meshes; prototypes keep object space.
-    if (transform && prototype < 0) {
-        for (Vec3& p : positions) p = transform->point(p);
-        for (Vec3& n : normals) n = normalize(transform->normal(n));
-    }
     size_t badNormals = 0, badUvs = 0;
     for (Vec3& n : normals)
-        if (!isFinite(n) || lengthSquared(n) < 1e-12f) {
+        if (!isFinite(n) || !(lengthSquared(n) >= 1e-12f)) {
             n = Vec3(0.0f);  // shading falls back to the geometric normal
             ++badNormals;
         }
+    // Bake the transform into top-level meshes; prototypes keep object space.
+    if (transform && prototype < 0) {
+        for (Vec3& p : positions) p = transform->point(p);
+        for (Vec3& n : normals)
+            if (lengthSquared(n) > 0) n = normalize(transform->normal(n));
+    }
     for (Vec2& uv : uvs)
         if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
             uv = Vec2(0, 0);
@@ -114,7 +115,7 @@ int Scene::addMesh(const std::string& name, std::vector<Vec3> positions, std::ve
             ++outOfRange;
             continue;
         }
-        if (!isFinite(positions[a]) || !isFinite(positions[b]) || !isFinite(positions[c])) {
+        if (!embreeValid(positions[a]) || !embreeValid(positions[b]) || !embreeValid(positions[c])) {
             ++nonFinite;
             continue;
         }
@@ -129,7 +130,7 @@ int Scene::addMesh(const std::string& name, std::vector<Vec3> positions, std::ve
         if (count) warn("mesh " + name + ": " + std::to_string(count) + " " + what);
     };
     report(outOfRange, "triangles with out-of-range indices dropped");
-    report(nonFinite, "triangles with NaN or Inf points dropped");
+    report(nonFinite, "triangles with NaN, Inf or out-of-range (beyond 1e18) points dropped");
     report(degenerate, "degenerate (zero-area) triangles dropped");
     report(badNormals, "NaN or zero normals replaced by the geometric normal");
     report(badUvs, "NaN st values set to 0");
@@ -139,7 +140,7 @@ int Scene::addMesh(const std::string& name, std::vector<Vec3> positions, std::ve
         return -1;
     }
     for (Vec3& p : positions)
-        if (!isFinite(p)) p = Vec3(0.0f);  // unreferenced now; keep Embree's bounds finite
+        if (!embreeValid(p)) p = Vec3(0.0f);  // unreferenced now; keep Embree's bounds finite
     Shape s;
     s.name = name;
     s.positions = std::move(positions);
@@ -177,6 +178,10 @@ int Scene::addSphere(const std::string& name, Vec3 center, float radius, int mat
     if (transform && prototype < 0) {
         s.center = transform->point(center);
         s.radius = radius * std::cbrt(std::fabs(float(transform->det3())));
+    }
+    if (!embreeValid(s.center) || !(s.radius < kMaxEmbreeCoordinate)) {
+        warn("sphere " + name + ": beyond the renderer's range (coordinates or radius above 1e18); ignored");
+        return -1;
     }
     s.material = material;
     s.prototype = prototype;
@@ -240,6 +245,12 @@ void Scene::bindMaterials() {
             return used[i] ? loadTexture(t, d.name, input) : Texture();
         };
         materials_.push_back(std::make_unique<Material>(d, binder));
+        if (used[i] && !materials_.back()->repairedInputs().empty()) {
+            std::string inputs;
+            for (const std::string& input : materials_.back()->repairedInputs())
+                inputs += (inputs.empty() ? "" : ", ") + input;
+            warn("material " + d.name + ": NaN, Inf or out-of-range " + inputs + " replaced by defaults");
+        }
         if (used[i] && materials_.back()->isSpecular()) hasSpecular_ = true;
     }
 }
@@ -441,6 +452,9 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const RTCRayHit& rh) c
 
 Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) const {
     ++stats.rays;
+    // A NaN ray (from a broken camera or a numerical accident upstream) hits nothing: Embree's
+    // behaviour on it is undefined (its debug builds assert).
+    if (!embreeValid(ray.o) || !embreeValid(ray.d) || std::isnan(ray.tMin) || std::isnan(ray.tMax)) return Intersection();
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
@@ -470,6 +484,7 @@ Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) c
 
 bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats) const {
     ++stats.rays;
+    if (!embreeValid(origin) || !embreeValid(dir) || std::isnan(distance)) return true;  // no light along a NaN ray
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
@@ -480,7 +495,10 @@ bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RaySta
 
 bool Scene::visible(const SurfaceInteraction& si, const Vec3& wi, float distance, RayStats& stats) const {
     Vec3 o = offsetRayOrigin(si.p, si.ng, wi);
-    float d = std::isfinite(distance) ? distance * (1 - 1e-4f) - length(o - si.p) : kInf;
+    // Stop short of the sampled point by its own float error too (an emissive triangle is in the BVH).
+    float d = std::isfinite(distance)
+                  ? distance * (1 - 1e-4f) - length(o - si.p) - 4 * pointErrorBound(si.p + wi * distance)
+                  : kInf;
     if (std::isfinite(d) && d <= 0) return true;
     return !occluded(o, wi, d, stats);
 }

@@ -71,7 +71,7 @@ IrradianceRecord IrradianceRecordSampler::sample(const Scene& scene, const Recor
     // ray offset along its own normal would let half the hemisphere slip under that surface.
     // Whatever the viewer sees the site from is open space next to every surface there.
     SurfaceInteraction origin;
-    origin.p = site.p + site.wo * (1e-3f * site.footprint + 4e-5f * (1 + maxComponent(vmax(site.p, -site.p))));
+    origin.p = site.p + site.wo * (1e-3f * site.footprint + 16 * pointErrorBound(site.p));
     origin.ng = site.ng;
     std::vector<Color> L(cells, Color(0.0f));
     std::vector<float> R(cells, kInf);

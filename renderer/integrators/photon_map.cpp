@@ -20,7 +20,7 @@ void PhotonMap::gather(const PhotonLookup& at, int k, float maxRadius, std::vect
 }
 
 bool clearBetween(const Scene& scene, const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb, float lift) {
-    float scale = lift + 1e-4f * (1 + maxComponent(vmax(vmax(a, -a), vmax(b, -b))));
+    float scale = lift + 64 * std::max(pointErrorBound(a), pointErrorBound(b));
     Vec3 from = a + na * scale, d = b + nb * scale - from;
     float distance = length(d);
     if (!(distance > 0)) return true;
