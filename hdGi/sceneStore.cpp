@@ -141,7 +141,11 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         scene->addLight(light);
     }
     scene->commit();
-    for (std::string const& w : scene->warnings()) TF_WARN("hdGi: %s", w.c_str());
+    // Every edit rebuilds the scene: report each of its warnings once per session.
+    for (std::string const& w : scene->warnings()) {
+        std::lock_guard<std::mutex> lock(_mutex);
+        if (_reported.insert(w).second) TF_WARN("hdGi: %s", w.c_str());
+    }
     if (ids) *ids = std::move(map);
     return scene;
 }

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,7 @@ public:
 
 private:
     mutable std::mutex _mutex;
+    mutable std::set<std::string> _reported;
     std::map<SdfPath, std::shared_ptr<const HdGiGeometry>> _geometry;
     std::map<SdfPath, std::shared_ptr<const gi::LightDesc>> _lights;
     std::map<SdfPath, std::shared_ptr<const gi::MaterialDesc>> _materials;
