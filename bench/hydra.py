@@ -1,0 +1,59 @@
+"""The Hydra path against `gi render` for the same work: per scene, the time to open the stage,
+Hydra's sync (the first Render call), hdGi's scene build (Embree BVH included) and time to first
+pixel, and the wall time of a converged render through UsdImagingGL (usdrecord's engine) against
+`gi render` with the same integrator, samples, seed and resolution; the ratio is the cost of the
+Hydra path (target: at most 1.10). Needs the OpenUSD build and the plugin (scripts/test-hydra.sh).
+
+    .venv/bin/python bench/hydra.py [--samples N] [--width W] [SCENE ...]
+"""
+import argparse
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tests/hydra"))
+from openusd import available, openusd_env, openusd_python  # noqa: E402
+
+DEFAULT_SCENES = ("scenes/cornell/cornell.usda", "scenes/sibenik/sibenik.usda", "scenes/sponza/sponza.usda")
+
+
+def hydra(scene, width, integrator, samples):
+    script = ROOT / "tests/hydra/scripts/record_stats.py"
+    out = subprocess.run([openusd_python(), str(script), str(scene), str(width), integrator, str(samples)],
+                         env=openusd_env(), capture_output=True, text=True, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def cli(scene, width, height, integrator, samples):
+    start = time.perf_counter()
+    subprocess.run([str(ROOT / ".venv/bin/gi"), "render", str(scene), "--integrator", integrator, "--spp",
+                    str(samples), "--resolution", str(width), str(height), "-o", "/tmp/gi-bench-hydra.exr",
+                    "--no-png"], check=True, capture_output=True)
+    return time.perf_counter() - start
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("scenes", nargs="*", default=[s for s in DEFAULT_SCENES if (ROOT / s).exists()])
+    parser.add_argument("--samples", type=int, default=64)
+    parser.add_argument("--width", type=int, default=512)
+    parser.add_argument("--integrator", default="path")
+    args = parser.parse_args()
+    if not available():
+        sys.exit("bench/hydra.py: no OpenUSD build or no hdGi plugin (run scripts/test-hydra.sh first)")
+    print(f"{'scene':28} {'open s':>7} {'sync s':>7} {'build s':>8} {'1st px s':>8} "
+          f"{'hydra s':>8} {'gi s':>7} {'ratio':>6}")
+    for scene in args.scenes:
+        h = hydra(ROOT / scene, args.width, args.integrator, args.samples)
+        g = cli(ROOT / scene, h["width"], h["height"], args.integrator, args.samples)
+        s = h["stats"]
+        print(f"{Path(scene).name:28} {h['open_seconds']:7.2f} {h['sync_seconds']:7.2f} "
+              f"{float(s.get('sceneBuildSeconds', 0)):8.2f} {float(s.get('firstPixelSeconds', 0)):8.2f} "
+              f"{h['wall_seconds']:8.2f} {g:7.2f} {h['wall_seconds'] / g:6.2f}")
+
+
+if __name__ == "__main__":
+    main()

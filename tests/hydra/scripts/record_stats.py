@@ -1,0 +1,53 @@
+"""Runs under OpenUSD's own Python: renders SCENE with Gi through UsdImagingGL.Engine set up as
+usdrecord's FrameRecorder sets it up (no GPU, scene camera, framing, no camera light), until
+converged, and prints one JSON object: stage open time, the time of the first Render call (Hydra
+sync), hdGi's render stats (scene build, first pixel) and the total wall time.
+    record_stats.py SCENE WIDTH INTEGRATOR SAMPLES [SEED]"""
+import json
+import sys
+import time
+
+from pxr import CameraUtil, Gf, Sdf, Tf, Usd, UsdGeom, UsdImagingGL, UsdRender
+
+total = time.perf_counter()
+scene, width, integrator, samples = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
+seed = int(sys.argv[5]) if len(sys.argv) > 5 else 0
+start = time.perf_counter()
+stage = Usd.Stage.Open(scene)
+open_seconds = time.perf_counter() - start
+
+path = stage.GetMetadata("renderSettingsPrimPath") or ""
+settings = UsdRender.Settings(stage.GetPrimAtPath(path)) if path else None
+targets = settings.GetCameraRel().GetForwardedTargets() if settings else []
+camera = UsdGeom.Camera(stage.GetPrimAtPath(targets[0])) if targets else next(
+    UsdGeom.Camera(p) for p in stage.Traverse() if p.IsA(UsdGeom.Camera))
+gf_camera = camera.GetCamera(Usd.TimeCode.Default())
+height = max(1, int(width / gf_camera.aspectRatio))
+
+parameters = UsdImagingGL.Engine.Parameters()
+parameters.gpuEnabled = False
+engine = UsdImagingGL.Engine(parameters)
+if not engine.SetRendererPlugin(Tf.Token("HdGiRendererPlugin")):
+    sys.exit("the Gi renderer plugin did not load")
+engine.SetRendererSetting(Tf.Token("gi:integrator"), integrator)
+engine.SetRendererSetting(Tf.Token("convergedSamplesPerPixel"), samples)
+engine.SetRendererSetting(Tf.Token("gi:seed"), seed)
+engine.SetRendererAov(Tf.Token("color"))
+engine.SetCameraPath(camera.GetPath())
+engine.SetFraming(CameraUtil.Framing(Gf.Rect2i(Gf.Vec2i(0, 0), width, height)))
+engine.SetRenderBufferSize(Gf.Vec2i(width, height))
+params = UsdImagingGL.RenderParams()
+params.frame = Usd.TimeCode.Default()
+params.colorCorrectionMode = Tf.Token("disabled")
+
+start = time.perf_counter()
+engine.Render(stage.GetPseudoRoot(), params)
+first_render_call = time.perf_counter() - start
+while not engine.IsConverged():
+    time.sleep(0.01)
+    engine.Render(stage.GetPseudoRoot(), params)
+render_seconds = time.perf_counter() - start
+stats = {k: v for k, v in dict(engine.GetRenderStats()).items()}
+print(json.dumps({"scene": scene, "width": width, "height": height, "open_seconds": open_seconds,
+                  "sync_seconds": first_render_call, "render_seconds": render_seconds,
+                  "wall_seconds": time.perf_counter() - total, "stats": stats}, default=str))
