@@ -87,8 +87,10 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
     std::vector<std::unique_ptr<FilmTile>> tiles(tileCount);
     struct ThreadCounters {
         RayStats rays;
-        uint64_t samples = 0, nonFinite = 0;
+        uint64_t samples = 0, nonFinite = 0, clamped = 0;
     };
+    // Opt-in firefly clamp: a sample brighter than this luminance is scaled down to it (hue kept).
+    const float clampLuminance = float(paramValue(*info_, settings_.params, "sampleClamp"));
     tbb::enumerable_thread_specific<ThreadCounters> counters;
     std::atomic<int> done{0};
     Vec3 forward = camera_.forward();
@@ -115,6 +117,13 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
                             ++c.nonFinite;  // never let one bad sample poison the image
                             L = isFinite(L) ? vmax(L, Color(0.0f)) : Color(0.0f);
                         }
+                        if (clampLuminance > 0) {
+                            float y = luminance(L);
+                            if (y > clampLuminance) {
+                                L = L * (clampLuminance / y);
+                                ++c.clamped;
+                            }
+                        }
                         aovs.depth *= dot(ray.d, forward);  // distance along the view axis, as EXR Z
                         tile->addSample(fx, fy, L, aovs);
                         ++c.samples;
@@ -137,6 +146,7 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
         stats_.rays += c.rays.rays;
         stats_.cameraSamples += c.samples;
         stats_.nonFiniteSamples += c.nonFinite;
+        stats_.clampedSamples += c.clamped;
     }
     stats_.renderSeconds += secondsSince(start);
     if (complete) samplesTaken_ = std::max(samplesTaken_, firstSample + count);

@@ -26,6 +26,7 @@ struct RenderSettings {
 struct RenderStats {
     double seconds = 0, preprocessSeconds = 0, renderSeconds = 0;
     uint64_t rays = 0, cameraSamples = 0, nonFiniteSamples = 0;
+    uint64_t clampedSamples = 0;  // samples the sampleClamp parameter scaled down
     int spp = 0;
     size_t peakMemoryBytes = 0;
     std::map<std::string, double> integrator;

@@ -133,7 +133,7 @@ class RenderResult:
     albedo: npt.NDArray[np.float32]    # (H, W, 3)
     spp: int                           # samples actually taken
     stats: dict                        # seconds, preprocess_seconds, render_seconds, rays, rays_per_second,
-                                       # camera_samples, samples_per_second, non_finite_samples,
+                                       # camera_samples, samples_per_second, non_finite_samples, clamped_samples,
                                        # peak_memory_bytes, spp, + the integrator's own statistics
 
 def integrators() -> list[dict]:

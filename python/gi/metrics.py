@@ -91,14 +91,39 @@ def flip(img, ref) -> float:
     return float(mean_error)
 
 
-def firefly_count(img, k: float = 10.0) -> int:
-    """Pixels brighter than k x the median luminance of the lit (Y > 0) pixels."""
+FIREFLY_K = 10.0
+FIREFLY_SEEDS = 3  # the fewest seeds whose per-pixel median a single outlier cannot drag up
+
+
+def firefly_count(img, k: float = FIREFLY_K) -> int:
+    """Pixels brighter than k x the median luminance of the lit (Y > 0) pixels (one image: what a
+    reference or a single render can be scored with)."""
     y = luminance(img)
     lit = y[y > 0]
     if lit.size == 0:
         return 0
     # The median ignores black pixels so that a mostly dark image does not flag everything lit.
     return int(np.count_nonzero(y > k * np.median(lit)))
+
+
+def firefly_count_over_seeds(images, k: float = FIREFLY_K) -> float:
+    """Fireflies of one run rendered with several seeds: pixels brighter than k x their own median
+    luminance over the seeds, counted in every seed's image and averaged over the seeds. A pixel
+    is compared with what it usually is, so a bright light or highlight is not a firefly and a
+    speck in a dark corner is. Where a pixel's median is under 1/k of the image's (the median of
+    the lit pixels' medians), that stands in, so black-most-of-the-time pixels are flagged only
+    when brighter than a typical pixel. Fewer than FIREFLY_SEEDS images: the one-image count."""
+    images = [_rgb(np.asarray(img)) for img in images]
+    if len(images) < FIREFLY_SEEDS:
+        return float(np.mean([firefly_count(img, k) for img in images])) if images else 0.0
+    y = np.stack([luminance(img) for img in images])
+    median = np.median(y, axis=0)
+    lit = median[median > 0]
+    floor = float(np.median(lit)) / k if lit.size else float(np.max(y)) / k
+    if floor <= 0:
+        return 0.0
+    threshold = k * np.maximum(median, floor)
+    return float(np.count_nonzero(y > threshold[None])) / len(images)
 
 
 def has_nan_or_inf(img) -> bool:

@@ -287,6 +287,7 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
                {"camera_samples", double(s.cameraSamples)},
                {"samples_per_second", s.renderSeconds > 0 ? s.cameraSamples / s.renderSeconds : 0},
                {"non_finite_samples", double(s.nonFiniteSamples)},
+               {"clamped_samples", double(s.clampedSamples)},
                {"peak_memory_bytes", double(s.peakMemoryBytes)},
                {"spp", double(s.spp)}};
     for (const auto& [k, v] : s.integrator) r.stats[k] = v;

@@ -48,6 +48,11 @@ const ParamInfo kFinalGatherDepth =
 const ParamInfo kPhotonRecordPaths = intParam(
     "paths", 120, 1, 65536, "hemisphere paths of a record where photons are too few (path-traced record; thesis: 120)");
 
+// Every integrator takes it; the renderer applies it to each camera sample (see Renderer).
+const ParamInfo kSampleClamp = ParamInfo{
+    "sampleClamp", "float", 0, 0, 1e30,
+    "clamp each camera sample's luminance to this (0 = off); biased, but removes fireflies"};
+
 PhotonMapSettings photonMapSettings(const IntegratorInfo& info, const ParamSet& p) {
     PhotonMapSettings s;
     s.photons = paramValue(info, p, "photons");
@@ -140,6 +145,7 @@ std::vector<IntegratorInfo> buildRegistry() {
         return std::make_unique<PhotonMapIrradianceCacheIntegrator>(s);
     };
     list.push_back(photonCache);
+    for (IntegratorInfo& info : list) info.params.push_back(kSampleClamp);
     return list;
 }
 

@@ -201,3 +201,19 @@ def test_shape_mismatch_raises_naming_both_shapes(fn):
 def test_non_rgb_shapes_raise(shape):
     with pytest.raises(ValueError):
         metrics.luminance(np.zeros(shape, np.float32))
+
+
+def test_fireflies_over_seeds_are_pixels_far_above_their_own_median():
+    rng = np.random.default_rng(3)
+    images = [rng.uniform(0.4, 0.6, (16, 16, 3)).astype(np.float32) for _ in range(4)]
+    for img in images:
+        img[:4, :4] = 40.0               # a light: bright in every seed, not a firefly
+        img[8:, :] = 0.0                 # a black region
+    images[0][10, 10] = 30.0             # a speck in the black region, in one seed
+    images[1][2, 12] = 9.0               # 18x its usual 0.5, in another
+    images[2][5, 5] = 3.0                # 6x: noise, not a firefly
+    assert metrics.firefly_count_over_seeds(images) == 2 / 4
+    assert metrics.firefly_count_over_seeds(images, k=5.0) == 3 / 4
+    # Fewer seeds than a median needs: each image against its own median, averaged.
+    assert metrics.firefly_count_over_seeds(images[:2]) == np.mean([metrics.firefly_count(i) for i in images[:2]])
+    assert metrics.firefly_count_over_seeds([const(0.0)] * 3) == 0

@@ -205,3 +205,12 @@ def test_accumulated_image_is_the_spp_weighted_mean():
     # Batch means 1 and 4, weights 1 and 3: s^2 = (1 * 2.25^2 + 3 * 0.75^2) / 1, SE = sqrt(s^2 / 4), over 3.25.
     expected = math.sqrt((2.25 ** 2 + 3 * 0.75 ** 2) / 4) / 3.25
     assert accumulator.relative_standard_error() == pytest.approx(expected)
+
+
+def test_fireflies_are_counted_over_seeds(tiny_study):
+    """Each run is rendered with 3 seeds (--firefly-seeds); fireflies is the mean count per seed
+    of pixels above 10x their median over the seeds, so it may be fractional, never negative."""
+    for row in run_rows(tiny_study):
+        count = float(row["fireflies"])
+        assert 0 <= count <= SIZE[0] * SIZE[1]
+        assert (count * 3) == pytest.approx(round(count * 3))
