@@ -167,3 +167,18 @@ def embree_ray_benchmark(scene: Scene, rays: int, seed: int = 0, threads: int = 
     """Embree alone: `rays` incoherent closest-hit rays in the committed scene -> {rays, hits, seconds, rays_per_second}."""
 
 def peak_memory_bytes() -> int: ...
+
+def read_obj(path: str) -> dict:
+    """A Wavefront OBJ (and its MTL) through tinyobjloader: {meshes: one per (group, material) in file
+    order, each {name, material, points (P,3), face_vertex_counts, face_vertex_indices, normals (N,3),
+    normal_indices, source_has_normals, uvs (T,2), uv_indices}, materials: [{name, Ka, Kd, Ks, Ke, Tf,
+    Ns, Ni, d, illum, Pr, Pm, maps: {key: {file, scale, offset, bump_multiplier}}}], faces,
+    repaired_normals, degenerate_faces, warnings}. Unusable normals are replaced by face normals.
+    Raises RuntimeError naming the file."""
+
+def read_gltf(path: str) -> dict:
+    """A glTF 2.0 file (.gltf or .glb) through tinygltf: {meshes: [{name, primitives: [{points,
+    face_vertex_indices (triangles), normals, source_has_normals, uvs (t flipped up), material}]}],
+    nodes: [{name, mesh, children, matrix, translation, rotation, scale}], roots, materials
+    (metallic-roughness), images: [{name, mime_type, uri (percent-encoded) or bytes}], generator,
+    copyright, repaired_normals, warnings}. Raises RuntimeError naming the file."""
