@@ -63,6 +63,12 @@ def testUsdviewInputFunction(app):
     view.SetRendererSetting("convergedSamplesPerPixel", 16)
     view.SetRendererSetting("gi:seed", 0)
     view.SetRendererSetting("gi:integrator", "path")
+    results["viewport"] = list(view.computeWindowSize())
+
+    # usdview's default camera light (on by default) reaches Gi as a distant light at the eye.
+    app._dataModel.viewSettings.ambientLightOnly = True
+    shot(app, "camera_light.png")
+    app._dataModel.viewSettings.ambientLightOnly = False
 
     start = time.monotonic()
     results["converge_seconds"] = shot(app, "cornell.png")
