@@ -58,11 +58,11 @@ Color Bsdf::evalOpaque(const Vec3& wo, const Vec3& wi) const {
     float ccView = params_.clearcoat * fresnelSchlick(Color(kClearcoatF0), 1, wo.z).x;
     Color f(0);
     if (hasClearcoat_ && !clearcoat_.smooth())
-        f += Color(opaque * clearcoat_.D(wm) * clearcoat_.G(wo, wi) * ccF / (4 * wo.z * wi.z));
+        f += Color(opaque * clearcoat_.D(wm) * clearcoat_.GOverCosines(wo, wi) * ccF / 4);
     Color base = diffuse_ * kInvPi;
     if (hasSpecular_) {
         Color fs = fresnelSchlick(params_.specularF0, params_.specularF90, dot(wo, wm));
-        if (!specular_.smooth()) base += fs * (opaque * specular_.D(wm) * specular_.G(wo, wi) / (4 * wo.z * wi.z));
+        if (!specular_.smooth()) base += fs * (opaque * specular_.D(wm) * specular_.GOverCosines(wo, wi) / 4);
         Color fView = fresnelSchlick(params_.specularF0, params_.specularF90, wo.z);
         base += diffuse_ * (-kInvPi * maxComponent(fView));
     }
@@ -92,11 +92,12 @@ Color Bsdf::evalRoughDielectric(const Vec3& wo, const Vec3& wi, TransportMode mo
     if (wm.z < 0) wm = -wm;
     if (dot(wm, wi) * cosI < 0 || dot(wm, wo) * cosO < 0) return Color(0);  // back-facing microfacet
     float F = fresnelDielectric(dot(wo, wm), params_.ior);
-    float D = dielectric_.D(wm), G = dielectric_.G(wo, wi);
-    if (reflection) return Color(params_.transmission * D * G * F / std::fabs(4 * cosI * cosO));
+    float D = dielectric_.D(wm), GoC = dielectric_.GOverCosines(wo, wi);  // G / |cosI cosO|
+    if (reflection) return Color(params_.transmission * D * GoC * F / 4);
     float denom = dot(wi, wm) + dot(wo, wm) / etap;
-    denom = denom * denom * cosI * cosO;
-    float ft = D * (1 - F) * G * std::fabs(dot(wi, wm) * dot(wo, wm) / denom);
+    denom = denom * denom;
+    if (!(denom > 0)) return Color(0);
+    float ft = D * (1 - F) * GoC * std::fabs(dot(wi, wm) * dot(wo, wm) / denom);
     if (mode == TransportMode::Radiance) ft /= etap * etap;
     return params_.transmissionTint * (params_.transmission * ft);
 }

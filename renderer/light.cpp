@@ -150,8 +150,8 @@ public:
         float t = intersectSphere(ray, c_, r_);
         if (!std::isfinite(t)) t = std::sqrt(std::max(0.0f, d2 - r_ * r_));  // grazing: tangent distance
         ls.distance = t;
-        ls.pdf = uniformConePdf(cosMax);
-        ls.Li = L_;
+        ls.pdf = uniformConePdfFromSin2(sin2);
+        ls.Li = ls.pdf > 0 ? L_ : Color(0.0f);
         return ls;
     }
     float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
@@ -160,7 +160,7 @@ public:
             Vec3 p = ref + wi * t;
             return areaToSolidAngle(1 / area(), t, dot(-wi, normalize(p - c_)));
         }
-        return uniformConePdf(safeSqrt(1 - r_ * r_ / d2));
+        return uniformConePdfFromSin2(r_ * r_ / d2);
     }
     Color radiance(const Vec3&) const override { return L_; }
     float intersect(const Ray& r) const override { return intersectSphere(r, c_, r_); }

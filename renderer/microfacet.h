@@ -72,10 +72,25 @@ public:
     }
     float G1(const Vec3& w) const { return 1 / (1 + lambda(w)); }
     float G(const Vec3& wo, const Vec3& wi) const { return 1 / (1 + lambda(wo) + lambda(wi)); }
-    // Density of visible normals for direction wo.
+    // |cos theta| * lambda(w), without the division by cos theta: alpha/2 at exactly grazing
+    // instead of a capped 1e8 * an underflowed cosine (no cancellation either when alpha is small).
+    float cosLambda(const Vec3& w) const {
+        float c = absCosTheta(w), s2 = std::max(0.0f, 1 - c * c), a2s2 = alpha_ * alpha_ * s2;
+        return a2s2 / (2 * (std::sqrt(c * c + a2s2) + c));
+    }
+    // G(wo, wi) / (|cos wo| |cos wi|), the factor of every microfacet BSDF: finite as either
+    // cosine goes to 0 (denormal directions made f = G / (4 cos cos) an Inf before).
+    float GOverCosines(const Vec3& wo, const Vec3& wi) const {
+        float co = absCosTheta(wo), ci = absCosTheta(wi);
+        float d = co * ci + ci * cosLambda(wo) + co * cosLambda(wi);
+        // f itself is unbounded when both directions graze (f cos is not): capped so that f stays
+        // a finite float even for denormal cosines.
+        return d > 0 ? std::min(1 / d, 1e20f) : 0;
+    }
+    // Density of visible normals for direction wo: G1(wo) / cos * D * |wo.wm|, stably.
     float visibleD(const Vec3& wo, const Vec3& wm) const {
-        float c = absCosTheta(wo);
-        return c > 0 ? G1(wo) / c * D(wm) * absDot(wo, wm) : 0;
+        float d = absCosTheta(wo) + cosLambda(wo);
+        return absCosTheta(wo) > 0 && d > 0 ? D(wm) * absDot(wo, wm) / d : 0;
     }
     float pdf(const Vec3& wo, const Vec3& wm) const { return visibleD(wo, wm); }
 

@@ -42,6 +42,12 @@ inline Vec3 sampleUniformCone(Vec2 u, float cosMax) {
     return {std::cos(phi) * sinTheta, std::sin(phi) * sinTheta, cosTheta};
 }
 inline float uniformConePdf(float cosMax) { return 1 / (2 * kPi * (1 - cosMax)); }
+// The same for a cone given by sin^2 of its half-angle: stays finite when the cone is narrower than
+// float precision around 1 (a tiny light far away, where 1 - cosMax rounds to 0).
+inline float uniformConePdfFromSin2(float sin2) {
+    float oneMinusCos = sin2 / (1 + safeSqrt(1 - sin2));
+    return oneMinusCos > 0 ? 1 / (2 * kPi * oneMinusCos) : 0.0f;
+}
 
 // Barycentrics uniform over a triangle (Heitz's low-distortion mapping).
 inline Vec2 sampleUniformTriangle(Vec2 u) {

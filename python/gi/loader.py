@@ -16,7 +16,7 @@ from . import descriptors
 from .errors import SceneError
 from .geometry import IMPLICIT_TYPES, implicit_triangles, mesh_triangles
 from .lights import is_light, light_desc
-from .materials import MaterialLibrary
+from .materials import UNREADABLE, MaterialLibrary, error_text
 
 DEFAULT_RESOLUTION = (512, 512)
 RENDERED_PURPOSES = (UsdGeom.Tokens.default_, UsdGeom.Tokens.render)
@@ -100,16 +100,23 @@ class StageLoader:
             self.warn(getattr(error.rootSite, "path", "/"), str(error).strip())
         prims = iter(Usd.PrimRange(self.stage.GetPseudoRoot()))
         for prim in prims:
-            if not self.is_rendered(prim):
+            try:
+                self.visit(prim, prims)
+            except UNREADABLE as error:  # a malformed prim is left out, not the whole stage
+                self.warn(str(prim.GetPath()), f"could not be read ({error_text(error)}); ignored with what is under it")
                 prims.PruneChildren()
-            elif prim.IsInstance():
-                self.add_instanceable(prim)
-                prims.PruneChildren()
-            elif prim.IsA(UsdGeom.PointInstancer):
-                self.add_point_instancer(prim)
-                prims.PruneChildren()
-            else:
-                self.add_prim(prim, matrix(self.world(prim)))
+
+    def visit(self, prim, prims):
+        if not self.is_rendered(prim):
+            prims.PruneChildren()
+        elif prim.IsInstance():
+            self.add_instanceable(prim)
+            prims.PruneChildren()
+        elif prim.IsA(UsdGeom.PointInstancer):
+            self.add_point_instancer(prim)
+            prims.PruneChildren()
+        else:
+            self.add_prim(prim, matrix(self.world(prim)))
 
     def add_prim(self, prim, transform):
         """A gprim or a light; anything else is a container (or not renderable) and is passed over."""
@@ -293,7 +300,12 @@ def camera_desc(prim, world, time):
 def framing_camera(stage, time, resolution):
     """A camera on +Z looking down -Z at the whole scene's bounding box."""
     cache = UsdGeom.BBoxCache(time, list(RENDERED_PURPOSES), useExtentsHint=True)
-    box = cache.ComputeWorldBound(stage.GetPseudoRoot()).ComputeAlignedRange()
+    try:
+        box = cache.ComputeWorldBound(stage.GetPseudoRoot()).ComputeAlignedRange()
+    except UNREADABLE:  # a malformed transform or extent somewhere: frame the origin
+        box = Gf.Range3d()
+    if not all(math.isfinite(v) for v in (*box.GetMin(), *box.GetMax())):
+        box = Gf.Range3d()
     center = box.GetMidpoint() if not box.IsEmpty() else Gf.Vec3d(0, 0, 0)
     radius = max(box.GetSize().GetLength() / 2, 1e-3) if not box.IsEmpty() else 1.0
     desc = descriptors.CameraDesc()
@@ -329,13 +341,26 @@ def load_stage(path, scene=None, camera=None, time=None) -> LoadedScene:
     loader.load()
 
     settings = render_settings(stage)
-    resolution = settings_resolution(settings, time)
+    try:
+        resolution = settings_resolution(settings, time)
+    except UNREADABLE as error:
+        loader.warn(str(settings.GetPath()), f"resolution could not be read ({error_text(error)}); "
+                                             f"using {DEFAULT_RESOLUTION}")
+        resolution = DEFAULT_RESOLUTION
     prim = camera_prim(stage, settings, camera, file)
+    desc = None
     if prim is not None:
-        scene.set_camera(camera_desc(prim, loader.world(prim), time))
+        try:
+            desc = camera_desc(prim, loader.world(prim), time)
+        except UNREADABLE as error:
+            loader.warn(str(prim.GetPath()), f"camera could not be read ({error_text(error)}); using one that "
+                                             f"frames the whole scene")
+    if desc is not None:
+        scene.set_camera(desc)
         camera_path = str(prim.GetPath())
     else:
-        loader.warn("/", "no camera in the stage; using one on +Z that frames the whole scene")
+        if prim is None:
+            loader.warn("/", "no camera in the stage; using one on +Z that frames the whole scene")
         scene.set_camera(framing_camera(stage, time, resolution))
         camera_path = ""
 

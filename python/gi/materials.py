@@ -4,9 +4,19 @@
 import os
 from dataclasses import dataclass
 
-from pxr import Sdf, UsdGeom, UsdShade
+from pxr import Sdf, Tf, UsdGeom, UsdShade
 
 from . import descriptors
+
+# What reading a malformed prim can raise through the pxr API: a Tf error (an invalid xformOp, ...)
+# or a value of the wrong type or shape. The loader turns these into warnings naming the prim.
+UNREADABLE = (Tf.ErrorException, TypeError, ValueError, ArithmeticError, IndexError, AttributeError)
+
+
+def error_text(error):
+    """The last line of an exception's message (a Tf error's carries the C++ location first)."""
+    lines = [line.strip() for line in str(error).splitlines() if line.strip()]
+    return lines[-1] if lines else type(error).__name__
 
 # UsdPreviewSurface input -> (MaterialDesc field, its TextureDesc field, kind, the spec's default).
 # A None field means the renderer has no use for it (a constant there is ignored silently).
@@ -235,7 +245,11 @@ class MaterialLibrary:
         if material:
             key = str(material.GetPath())
             if key not in self.ids:
-                desc, uv_names = material_desc(material, self.warn, self.textures)
+                try:
+                    desc, uv_names = material_desc(material, self.warn, self.textures)
+                except UNREADABLE as error:
+                    self.warn(key, f"could not be read ({error_text(error)}); using the default material")
+                    desc, uv_names = None, ()
                 self.ids[key] = (self.add(desc), uv_names) if desc is not None else (-1, ())
             if self.ids[key][0] >= 0:
                 return self.ids[key]

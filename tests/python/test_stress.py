@@ -16,7 +16,7 @@ from gi.loader import load_stage  # noqa: E402
 
 STRESS = ROOT / "scenes" / "stress"
 FLOAT_MAX = float(np.finfo(np.float32).max)
-SCENES = sorted(STRESS.glob("*.usda"))
+SCENES = sorted(STRESS.glob("[!.]*.usda"))
 INTEGRATORS = [info["name"] for info in _core.integrators()]
 TAKES = {info["name"]: {p["name"] for p in info["params"]} for info in _core.integrators()}
 
@@ -160,3 +160,15 @@ def test_scale_and_offset_do_not_change_the_image(scene_name, integrator):
     lit = (plain.max(axis=2) < 1) & (image.max(axis=2) < 1)
     ratio = image[lit].mean() / plain[lit].mean()
     assert abs(ratio - 1) < SCALE_TOLERANCE[integrator], f"mean ratio {ratio:.4f}"
+
+
+@pytest.mark.parametrize("integrator", ["photonMapFinalGather", "photonMapIrradianceCache"])
+@pytest.mark.parametrize("photons", [0, 1, 7])
+def test_photon_queries_with_fewer_photons_than_k(integrator, photons):
+    """Density estimates asking for 500 nearest photons from maps of 0, 1 or 7 (caustics through
+    the glass box included): finite, non-negative, and no worse than the scene's emitters allow."""
+    color, result, recorder, _ = render(STRESS / "tir_glass_box.usda", integrator, photons=photons,
+                                        causticPhotons=photons, gatherPhotons=500)
+    assert np.isfinite(color).all() and (color >= 0).all()
+    assert result.stats["non_finite_samples"] == 0
+    assert color.max() <= brightest_emitter(recorder) * path_gain(FAST)
