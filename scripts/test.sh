@@ -12,8 +12,15 @@ build_dir=$(ls -d build/cp3*/ 2>/dev/null | head -n 1)
 echo "== C++ tests (ctest in $build_dir)"
 ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" || status=1
 
+echo "== C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer (scripts/test-sanitizers.sh)"
+bash scripts/test-sanitizers.sh || status=1
+
 echo "== Python tests (pytest)"
 .venv/bin/python -m pytest -q tests/python || status=1
+
+fuzz_seed=${GI_FUZZ_SEED:-0} fuzz_seconds=${GI_FUZZ_SECONDS:-60}
+echo "== USD loader fuzzing: seed $fuzz_seed, $fuzz_seconds s (a crash leaves its scene in out/fuzz/current.usda)"
+.venv/bin/python tests/fuzz/fuzz_loader.py --seed "$fuzz_seed" --seconds "$fuzz_seconds" --out out/fuzz || status=1
 
 openusd=${GI_OPENUSD_ROOT:-/opt/openusd}
 if [ ! -f scripts/test-hydra.sh ]; then

@@ -25,7 +25,15 @@ import traceback
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+# This checkout's gi; its compiled core from the checkout if a build put it there, else from the
+# installed package (as tests/python/conftest.py does).
 sys.path.insert(0, str(ROOT / "python"))
+import site  # noqa: E402
+
+import gi  # noqa: E402
+
+if not any((ROOT / "python" / "gi").glob("_core*.so")):
+    gi.__path__.extend(str(Path(d) / "gi") for d in site.getsitepackages() if any((Path(d) / "gi").glob("_core*.so")))
 
 import numpy as np  # noqa: E402
 
