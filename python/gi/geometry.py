@@ -47,7 +47,9 @@ def usable_faces(counts, indices, points, warn):
              f"the extra indices are ignored")
 
     covered = int(min(ends[-1], len(indices))) if face_count else 0
-    face_of_corner = np.repeat(np.arange(face_count), counts)[:covered]
+    # The corners of each face that exist (a count of 2^31 must not become a 2^31-element array).
+    present = np.clip(np.minimum(ends, covered) - (ends - counts), 0, None)
+    face_of_corner = np.repeat(np.arange(face_count), present)
     corner_points = indices[:covered]
 
     def faces_where(corner_is_bad):

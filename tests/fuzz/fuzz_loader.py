@@ -43,6 +43,7 @@ from gi.errors import SceneError  # noqa: E402
 from gi.loader import load_stage  # noqa: E402
 
 MAX_SCENE_BYTES = 64 * 1024
+SLOW_SECONDS = 5.0
 NUMBER = re.compile(r"(?<![\w.])-?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?![\w.])")
 SPECIAL_NUMBERS = ["nan", "inf", "-inf", "0", "-0", "-1", "1e30", "-1e30", "1e-30", "3.5e38", "1e-45",
                    "2147483647", "-2147483648", "4294967296", "1e300", "0.5", "1e5", "-1e-7"]
@@ -89,10 +90,13 @@ def drop_array_element(text, rng):
 
 
 def edit_lines(text, rng):
+    """Deletes, duplicates or swaps attribute lines (a brace or bracket moved mostly makes a file
+    the parser rejects, which tests little)."""
     lines = text.split("\n")
-    if len(lines) < 3:
+    attributes = [k for k, line in enumerate(lines) if " = " in line and not any(c in line for c in "{}()")]
+    if len(attributes) < 2:
         return text, "short"
-    i, j = rng.randrange(1, len(lines)), rng.randrange(1, len(lines))
+    i, j = rng.choice(attributes), rng.choice(attributes)
     kind = rng.choice(["delete", "duplicate", "swap"])
     if kind == "delete":
         del lines[i]
@@ -179,6 +183,7 @@ def run(seed, iterations, seconds, out):
         (out / "current.usda").write_text(text)
         (out / "current.txt").write_text(json.dumps({"seed": seed, "iteration": iteration, "source": str(source),
                                                      "integrator": integrator, "mutations": mutations}, indent=1))
+        began = time.monotonic()
         try:
             counts[try_scene(current, integrator)] += 1
         except Exception:  # noqa: BLE001  -- every other outcome is a finding
@@ -189,6 +194,12 @@ def run(seed, iterations, seconds, out):
             print(f"FAIL {kept} ({source.name}, {integrator}, {mutations}):\n{traceback.format_exc()}", flush=True)
         finally:
             current.unlink(missing_ok=True)
+        took = time.monotonic() - began
+        if took > SLOW_SECONDS:  # not a failure, but worth a look: a mutation that makes a render slow
+            (out / "slow").mkdir(exist_ok=True)
+            (out / "slow" / f"seed{seed}_{iteration}.usda").write_text(text)
+            print(f"SLOW {took:.1f} s: seed {seed} iteration {iteration} ({source.name}, {integrator}, {mutations})",
+                  flush=True)
         iteration += 1
     elapsed = time.monotonic() - start
     print(f"fuzz: seed {seed}, {iteration} iterations in {elapsed:.1f} s over {len(sources)} scenes: "

@@ -176,3 +176,23 @@ def test_photon_queries_with_fewer_photons_than_k(integrator, photons):
     assert np.isfinite(color).all() and (color >= 0).all()
     assert result.stats["non_finite_samples"] == 0
     assert color.max() <= brightest_emitter(recorder) * path_gain(FAST)
+
+
+def test_a_huge_face_vertex_count_is_dropped_without_allocating_it(tmp_path):
+    """Found by the fuzzer: faceVertexCounts = [2147483647] made the loader build a 2^31-element
+    array (43 s and 16 GB) before dropping the face."""
+    import time
+
+    from pxr import Usd, UsdGeom
+    path = tmp_path / "huge_count.usda"
+    stage = Usd.Stage.CreateNew(str(path))
+    mesh = UsdGeom.Mesh.Define(stage, "/World/Huge")
+    mesh.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)])
+    mesh.CreateFaceVertexCountsAttr([3, 2147483647])
+    mesh.CreateFaceVertexIndicesAttr([0, 1, 2, 0, 2, 3])
+    stage.Save()
+    start = time.perf_counter()
+    loaded = load_stage(str(path), scene=EmitterRecorder())
+    assert time.perf_counter() - start < 5
+    assert loaded.counts["triangles"] == 1
+    assert any("/World/Huge" in w and "past the end" in w for w in loaded.warnings)
