@@ -445,6 +445,7 @@ std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
         warning = "light " + d.name + ": zero or negative intensity; ignored";
         return nullptr;
     }
+    if (L.x < 0 || L.y < 0 || L.z < 0) warning = "light " + d.name + ": negative color components set to 0";
     L = vmax(L, Color(0.0f));
     const Mat4& m = d.transform;
     std::unique_ptr<Light> light;

@@ -54,6 +54,12 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
         scene.warn("camera " + desc.name + ": NaN, Inf or singular transform; using a camera that frames the scene");
         desc = defaultCamera(scene);
     }
+    for (float v : {desc.focalLength, desc.horizontalAperture, desc.verticalAperture, desc.horizontalApertureOffset,
+                    desc.verticalApertureOffset, desc.fStop, desc.focusDistance, desc.clipNear})
+        if (!std::isfinite(v)) {
+            scene.warn("camera " + desc.name + ": NaN or Inf in its lens or clipping settings; defaults used there");
+            break;
+        }
     camera_ = Camera(desc, settings.width, settings.height);
 }
 

@@ -30,7 +30,8 @@ FAST = {"photons": 3000, "causticPhotons": 3000, "paths": 12, "finalGatherSample
 # Prims that must be named in a warning (repaired or ignored input), per scene.
 EXPECTED_WARNINGS = {
     "degenerate_lights": ["/World/ZeroWidth", "/World/ZeroDisk", "/World/ZeroSphere", "/World/ZeroCylinder",
-                          "/World/ZeroScaled", "/World/Off", "/World/Negative", "/World/Black"],
+                          "/World/ZeroScaled", "/World/Off", "/World/Negative", "/World/Black",
+                          "/World/NegativeGreen"],
     "degenerate_triangles": ["/World/Mixed", "/World/AllDegenerate"],
     "empty_mesh": ["/World/NoFaces", "/World/Nothing", "/World/EmptyArrays", "/World/Slivers"],
     "nan_camera": ["/World/Camera"],
