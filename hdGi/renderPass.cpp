@@ -30,8 +30,8 @@ gi::CameraDesc CameraOf(HdCamera const* camera, GfMatrix4d const& view, GfMatrix
     gi::CameraDesc desc;
     desc.name = camera ? camera->GetId().GetString() : "<viewport camera>";
     desc.transform = HdGiToMat4(view.GetInverse());
-    desc.useInverseProjection = true;
-    desc.inverseProjection = HdGiToMat4(projection.GetInverse());
+    desc.useProjection = true;
+    desc.projectionMatrix = HdGiToMat4(projection);
     desc.projection = std::round(projection[3][3]) == 1 ? "orthographic" : "perspective";
     if (camera) {
         // HdCamera's lengths are in scene units; the renderer's (as UsdGeomCamera's) in tenths.

@@ -22,11 +22,22 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
     // expandAperture: grow whichever aperture is too small for the image's aspect ratio.
     if (ha / va < imageAspect) ha = va * imageAspect;
     else va = ha / imageAspect;
-    float scale = orthographic_ ? kTenthOfUnit : 1.0f / focal;
-    halfWidth_ = 0.5f * ha * scale;
-    halfHeight_ = 0.5f * va * scale;
-    offsetX_ = finiteOr(desc.horizontalApertureOffset, 0) * scale;
-    offsetY_ = finiteOr(desc.verticalApertureOffset, 0) * scale;
+    // In double, rounded once: a host's projection matrix (below) gives the same floats.
+    double scale = orthographic_ ? double(kTenthOfUnit) : 1.0 / focal;
+    halfWidth_ = float(0.5 * ha * scale);
+    halfHeight_ = float(0.5 * va * scale);
+    offsetX_ = float(finiteOr(desc.horizontalApertureOffset, 0) * scale);
+    offsetY_ = float(finiteOr(desc.verticalApertureOffset, 0) * scale);
+    const Mat4& p = desc.projectionMatrix;
+    if (desc.useProjection && p.isFinite() && p.m[0][0] != 0 && p.m[1][1] != 0) {
+        // Perspective: P00 = 2n/(r-l), P20 = (r+l)/(r-l) (the window at unit distance);
+        // orthographic: P00 = 2/(r-l), P30 = -(r+l)/(r-l).
+        orthographic_ = p.m[2][3] == 0;
+        halfWidth_ = float(1.0 / p.m[0][0]);
+        halfHeight_ = float(1.0 / p.m[1][1]);
+        offsetX_ = float(orthographic_ ? -p.m[3][0] / p.m[0][0] : p.m[2][0] / p.m[0][0]);
+        offsetY_ = float(orthographic_ ? -p.m[3][1] / p.m[1][1] : p.m[2][1] / p.m[1][1]);
+    }
     desc_.clipNear = desc.clipNear >= 0 && std::isfinite(desc.clipNear) ? desc.clipNear : 0.0f;
     desc_.clipFar = desc.clipFar > desc_.clipNear ? desc.clipFar : 1e30f;  // NaN too
     if (!desc.transform.isFinite()) desc_.transform = Mat4();
@@ -34,7 +45,6 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
         lensRadius_ = focal * kTenthOfUnit / (2 * desc.fStop);
         focusDistance_ = desc.focusDistance;
     }
-    useInverseProjection_ = desc.useInverseProjection && desc.inverseProjection.isFinite();
     position_ = desc_.transform.point(Vec3(0.0f));
     forward_ = normalize(desc_.transform.vector(Vec3(0, 0, -1)));
 }
@@ -42,12 +52,6 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
 Ray Camera::generateRay(float filmX, float filmY, Vec2 lens) const {
     float sx = (2 * filmX / width_ - 1) * halfWidth_ + offsetX_;
     float sy = (1 - 2 * filmY / height_) * halfHeight_ + offsetY_;
-    if (useInverseProjection_) {
-        // The near-plane point under the NDC position; perspective rays are scaled to z = -1.
-        Vec3 p = desc_.inverseProjection.projectPoint(Vec3(2 * filmX / width_ - 1, 1 - 2 * filmY / height_, -1));
-        if (orthographic_) sx = p.x, sy = p.y;
-        else if (p.z < 0) sx = p.x / -p.z, sy = p.y / -p.z;
-    }
     Vec3 o(0.0f), d;
     if (orthographic_) {
         o = Vec3(sx, sy, 0);

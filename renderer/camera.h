@@ -18,10 +18,12 @@ struct CameraDesc {
     float focusDistance = 0;
     float clipNear = 1e-4f, clipFar = 1e30f;
     Mat4 transform;  // camera to world, USD convention
-    // A host that has already conformed the camera to its viewport (Hydra) gives the inverse of
-    // its projection matrix instead: NDC [-1,1]^2 spans the image; the apertures are then unused.
-    bool useInverseProjection = false;
-    Mat4 inverseProjection;
+    // A host that has already conformed the camera to its viewport (Hydra) gives its projection
+    // matrix instead (OpenGL convention, row vectors: NDC [-1,1]^2 spans the image); the
+    // apertures are then unused. Read as the same window the apertures give, so both front ends
+    // trace bit-identical camera rays for the same camera.
+    bool useProjection = false;
+    Mat4 projectionMatrix;
 };
 
 class Camera {
@@ -40,7 +42,6 @@ private:
     float offsetX_ = 0, offsetY_ = 0;
     float lensRadius_ = 0, focusDistance_ = 1;
     bool orthographic_ = false;
-    bool useInverseProjection_ = false;
     Vec3 position_, forward_;
 };
 

@@ -95,12 +95,6 @@ struct Mat4 {
         double z = p.x * m[0][2] + p.y * m[1][2] + p.z * m[2][2] + m[3][2];
         return {float(x), float(y), float(z)};
     }
-    // With the homogeneous divide (projection matrices).
-    Vec3 projectPoint(const Vec3& p) const {
-        double w = p.x * m[0][3] + p.y * m[1][3] + p.z * m[2][3] + m[3][3];
-        Vec3 q = point(p);
-        return w != 0 ? Vec3(float(q.x / w), float(q.y / w), float(q.z / w)) : q;
-    }
     Vec3 vector(const Vec3& v) const {
         return {float(v.x * m[0][0] + v.y * m[1][0] + v.z * m[2][0]),
                 float(v.x * m[0][1] + v.y * m[1][1] + v.z * m[2][1]),
@@ -129,7 +123,6 @@ struct Mat4 {
     }
     // Inverse of the affine part; returns false if singular.
     bool inverse(Mat4& out) const;  // affine matrices only (the last column is ignored)
-    bool inverseProjective(Mat4& out) const;  // any invertible 4x4 (Gauss-Jordan)
     // Normals transform by the inverse transpose of the linear part.
     Vec3 normal(const Vec3& n) const;
 };
@@ -153,29 +146,6 @@ inline bool Mat4::inverse(Mat4& out) const {
     r.m[0][3] = r.m[1][3] = r.m[2][3] = 0;
     r.m[3][3] = 1;
     out = r;
-    return true;
-}
-
-inline bool Mat4::inverseProjective(Mat4& out) const {
-    double a[4][8];
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 8; ++j) a[i][j] = j < 4 ? m[i][j] : (j - 4 == i ? 1.0 : 0.0);
-    for (int c = 0; c < 4; ++c) {
-        int pivot = c;
-        for (int r = c + 1; r < 4; ++r)
-            if (std::fabs(a[r][c]) > std::fabs(a[pivot][c])) pivot = r;
-        if (!(std::fabs(a[pivot][c]) > 1e-300)) return false;
-        for (int j = 0; j < 8; ++j) std::swap(a[c][j], a[pivot][j]);
-        double inv = 1.0 / a[c][c];
-        for (int j = 0; j < 8; ++j) a[c][j] *= inv;
-        for (int r = 0; r < 4; ++r) {
-            if (r == c) continue;
-            double f = a[r][c];
-            for (int j = 0; j < 8; ++j) a[r][j] -= f * a[c][j];
-        }
-    }
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) out.m[i][j] = a[i][j + 4];
     return true;
 }
 

@@ -6,7 +6,7 @@ import sys
 import time
 from pathlib import Path
 
-from pxr import Gf, Sdf, Tf, Usd, UsdAppUtils, UsdGeom, UsdShade
+from pxr import Gf, Sdf, Usd, UsdAppUtils, UsdGeom, UsdShade
 
 scene, out, width, integrator, samples = sys.argv[1], Path(sys.argv[2]), int(sys.argv[3]), sys.argv[4], int(sys.argv[5])
 out.mkdir(parents=True, exist_ok=True)
@@ -16,7 +16,7 @@ settings = stage.GetPrimAtPath("/Render/Settings")
 settings.CreateAttribute("gi:integrator", Sdf.ValueTypeNames.String, custom=True).Set(integrator)
 settings.CreateAttribute("gi:samples", Sdf.ValueTypeNames.Int, custom=True).Set(samples)
 
-recorder = UsdAppUtils.FrameRecorder(Tf.Token("HdGiRendererPlugin"), False)
+recorder = UsdAppUtils.FrameRecorder("HdGiRendererPlugin", False)
 recorder.SetActiveRenderSettingsPrimPath(Sdf.Path("/Render/Settings"))
 recorder.SetImageWidth(width)
 recorder.SetCameraLightEnabled(False)

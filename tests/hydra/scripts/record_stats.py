@@ -7,7 +7,7 @@ import json
 import sys
 import time
 
-from pxr import CameraUtil, Gf, Sdf, Tf, Usd, UsdGeom, UsdImagingGL, UsdRender
+from pxr import CameraUtil, Gf, Usd, UsdGeom, UsdImagingGL, UsdRender
 
 total = time.perf_counter()
 scene, width, integrator, samples = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
@@ -27,18 +27,18 @@ height = max(1, int(width / gf_camera.aspectRatio))
 parameters = UsdImagingGL.Engine.Parameters()
 parameters.gpuEnabled = False
 engine = UsdImagingGL.Engine(parameters)
-if not engine.SetRendererPlugin(Tf.Token("HdGiRendererPlugin")):
+if not engine.SetRendererPlugin("HdGiRendererPlugin"):
     sys.exit("the Gi renderer plugin did not load")
-engine.SetRendererSetting(Tf.Token("gi:integrator"), integrator)
-engine.SetRendererSetting(Tf.Token("convergedSamplesPerPixel"), samples)
-engine.SetRendererSetting(Tf.Token("gi:seed"), seed)
-engine.SetRendererAov(Tf.Token("color"))
+engine.SetRendererSetting("gi:integrator", integrator)
+engine.SetRendererSetting("convergedSamplesPerPixel", samples)
+engine.SetRendererSetting("gi:seed", seed)
+engine.SetRendererAov("color")
 engine.SetCameraPath(camera.GetPath())
 engine.SetFraming(CameraUtil.Framing(Gf.Rect2i(Gf.Vec2i(0, 0), width, height)))
 engine.SetRenderBufferSize(Gf.Vec2i(width, height))
 params = UsdImagingGL.RenderParams()
 params.frame = Usd.TimeCode.Default()
-params.colorCorrectionMode = Tf.Token("disabled")
+params.colorCorrectionMode = "disabled"
 
 start = time.perf_counter()
 engine.Render(stage.GetPseudoRoot(), params)
