@@ -17,9 +17,11 @@ if not available():
 
 
 def hdgi_errors(text):
-    """Lines where Hydra or hdGi reported a coding/runtime error."""
+    """Python tracebacks, and coding/runtime errors raised by hdGi (other OpenUSD components'
+    own diagnostics, e.g. hgiGL's at window teardown, are not hdGi's)."""
     return [line for line in text.splitlines()
-            if "Coding Error" in line or "Runtime Error" in line or "Traceback" in line]
+            if "Traceback" in line
+            or (("Coding Error" in line or "Runtime Error" in line) and ("hdGi" in line or "/hdGi/" in line))]
 
 
 def read_rgb(path):

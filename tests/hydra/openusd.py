@@ -25,6 +25,9 @@ def openusd_env():
     env["PATH"] = f"{OPENUSD / 'bin'}:{env.get('PATH', '')}"
     env["LD_LIBRARY_PATH"] = f"{OPENUSD / 'lib'}:{env.get('LD_LIBRARY_PATH', '')}"
     env["PXR_PLUGINPATH_NAME"] = PLUGIN
+    # UsdImaging's scene-index path gives Gi its sphere prims; the legacy delegate (24.11's
+    # default) tessellates every sphere into a mesh.
+    env["USDIMAGINGGL_ENGINE_ENABLE_SCENE_INDEX"] = "1"
     return env
 
 

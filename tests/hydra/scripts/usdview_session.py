@@ -59,7 +59,7 @@ def testUsdviewInputFunction(app):
     app._dataModel.viewSettings.showHUD = False
     app._dataModel.viewSettings.showBBoxes = False
     results["renderer"] = view.rendererDisplayName
-    results["settings"] = {str(s.key): s.defaultValue for s in view.GetRendererSettingsList()}
+    results["settings"] = {str(s.key): s.defValue for s in view.GetRendererSettingsList()}
     view.SetRendererSetting("convergedSamplesPerPixel", 16)
     view.SetRendererSetting("gi:seed", 0)
     view.SetRendererSetting("gi:integrator", "path")
@@ -120,7 +120,7 @@ def testUsdviewInputFunction(app):
     UsdGeom.Imageable(stage.GetPrimAtPath("/World/Light")).MakeInvisible()
     shot(app, "edit_light_hidden.png")
     UsdGeom.Imageable(stage.GetPrimAtPath("/World/Light")).MakeVisible()
-    stage.GetRootLayer().Export(str(OUT / "edited.usda"))
+    stage.Export(str(OUT / "edited.usda"))  # flattened: the edits may be in the session layer
     shot(app, "edited.png")
 
     # Camera orbits restart the render; memory must not grow over 20 restarts.
