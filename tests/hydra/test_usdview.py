@@ -96,7 +96,7 @@ def test_memory_does_not_grow_over_camera_restarts(session):
 
 def test_screenshot_for_readme(session):
     out, _, _ = session
-    target = REPO / "docs/usdview-cornell.png"
+    target = REPO / "out/usdview-cornell.png"  # README shows a copy of it: docs/usdview-cornell.png
     target.parent.mkdir(exist_ok=True)
     shutil.copyfile(out / "cornell.png", target)
 
