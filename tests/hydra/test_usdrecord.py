@@ -34,6 +34,14 @@ def gi_render(tmp_path, name, integrator, spp, seed, extra=()):
     return read_rgb(output), seconds
 
 
+def gi_render_scene(tmp_path, scene, integrator, spp, seed, width, height):
+    output = tmp_path / f"{scene.stem}-cli.exr"
+    subprocess.run([str(REPO / ".venv/bin/gi"), "render", str(scene), "--integrator", integrator, "--spp", str(spp),
+                    "--seed", str(seed), "--resolution", str(width), str(height), "-o", str(output), "--no-png"],
+                   check=True, capture_output=True)
+    return read_rgb(output)
+
+
 def test_usdrecord_matches_gi_render(tmp_path):
     spp = 64
     hydra, hydra_seconds = usdrecord(tmp_path, "hydra", integrator="path", samples=spp, seed=3)
