@@ -4,6 +4,7 @@
 #include "pxr/base/vt/array.h"
 #include "pxr/imaging/hd/changeTracker.h"
 #include "pxr/imaging/hd/tokens.h"
+#include "renderParam.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
 
@@ -57,7 +58,19 @@ bool HdGiGprimState::Sync(HdRprim& prim, HdSceneDelegate* delegate, HdDirtyBits 
     return changed;
 }
 
-void HdGiGprimState::Apply(HdRprim const& prim, HdGiGeometry& g) const {
+void HdGiInitRepr(std::vector<std::pair<TfToken, HdReprSharedPtr>>& reprs, TfToken const& reprToken) {
+    for (auto const& entry : reprs)
+        if (entry.first == reprToken) return;
+    reprs.emplace_back(reprToken, HdReprSharedPtr());
+}
+
+void HdGiGprimState::Publish(HdRprim const& prim, HdGiRenderParam* param, std::shared_ptr<HdGiGeometry> geometry) const {
+    HdGiSceneStore& store = param->EditScene();
+    if (!prim.IsVisible()) {
+        store.SetGeometry(prim.GetId(), nullptr);
+        return;
+    }
+    HdGiGeometry& g = *geometry;
     g.name = prim.GetId().GetString();
     g.transform = transform;
     g.doubleSided = doubleSided;
@@ -67,6 +80,7 @@ void HdGiGprimState::Apply(HdRprim const& prim, HdGiGeometry& g) const {
     g.instanceTransforms = instances;
     if (g.material.IsEmpty()) g.material = prim.GetMaterialId();
     g.primId = prim.GetPrimId();
+    store.SetGeometry(prim.GetId(), std::move(geometry));
 }
 
 PXR_NAMESPACE_CLOSE_SCOPE

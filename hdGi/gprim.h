@@ -24,9 +24,13 @@ struct HdGiGprimState {
 
     // Updates what `dirtyBits` marks; returns true if anything the renderer sees changed.
     bool Sync(HdRprim& prim, HdSceneDelegate* delegate, HdDirtyBits dirtyBits);
-    // Fills the fields of `g` this state owns.
-    void Apply(HdRprim const& prim, HdGiGeometry& g) const;
+    // Fills the fields of `g` this state owns and stores it for the prim (nothing when hidden),
+    // stopping the render first.
+    void Publish(HdRprim const& prim, HdGiRenderParam* param, std::shared_ptr<HdGiGeometry> g) const;
 };
+
+// Reprs are unused (the renderer draws everything one way) but Hydra expects an entry per token.
+void HdGiInitRepr(std::vector<std::pair<TfToken, HdReprSharedPtr>>& reprs, TfToken const& reprToken);
 
 // Dirty bits every gprim wants on first sync.
 HdDirtyBits HdGiGprimInitialDirtyBits();

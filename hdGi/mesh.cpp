@@ -13,10 +13,7 @@ HdGiMesh::HdGiMesh(SdfPath const& id) : HdMesh(id) {}
 
 HdDirtyBits HdGiMesh::GetInitialDirtyBitsMask() const { return HdGiGprimInitialDirtyBits(); }
 
-void HdGiMesh::_InitRepr(TfToken const& reprToken, HdDirtyBits*) {
-    auto it = std::find_if(_reprs.begin(), _reprs.end(), _ReprComparator(reprToken));
-    if (it == _reprs.end()) _reprs.emplace_back(reprToken, HdReprSharedPtr());
-}
+void HdGiMesh::_InitRepr(TfToken const& reprToken, HdDirtyBits*) { HdGiInitRepr(_reprs, reprToken); }
 
 namespace {
 
@@ -64,16 +61,10 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
     }
 
     if (changed) {
-        HdGiSceneStore& store = param->EditScene();
-        if (IsVisible()) {
-            auto g = std::make_shared<HdGiGeometry>();
-            g->pieces = _pieces;
-            g->pieceMaterials = _pieceMaterials;
-            _state.Apply(*this, *g);
-            store.SetGeometry(id, std::move(g));
-        } else {
-            store.SetGeometry(id, nullptr);
-        }
+        auto g = std::make_shared<HdGiGeometry>();
+        g->pieces = _pieces;
+        g->pieceMaterials = _pieceMaterials;
+        _state.Publish(*this, param, std::move(g));
     }
     *dirtyBits &= ~HdChangeTracker::AllSceneDirtyBits;
 }

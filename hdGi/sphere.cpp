@@ -15,10 +15,7 @@ TfTokenVector const& HdGiSphere::GetBuiltinPrimvarNames() const {
     return names;
 }
 
-void HdGiSphere::_InitRepr(TfToken const& reprToken, HdDirtyBits*) {
-    auto it = std::find_if(_reprs.begin(), _reprs.end(), _ReprComparator(reprToken));
-    if (it == _reprs.end()) _reprs.emplace_back(reprToken, HdReprSharedPtr());
-}
+void HdGiSphere::_InitRepr(TfToken const& reprToken, HdDirtyBits*) { HdGiInitRepr(_reprs, reprToken); }
 
 void HdGiSphere::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDirtyBits* dirtyBits,
                       TfToken const&) {
@@ -37,16 +34,10 @@ void HdGiSphere::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdD
         changed = true;
     }
     if (changed) {
-        HdGiSceneStore& store = param->EditScene();
-        if (IsVisible()) {
-            auto g = std::make_shared<HdGiGeometry>();
-            g->isSphere = true;
-            g->radius = _radius;
-            _state.Apply(*this, *g);
-            store.SetGeometry(id, std::move(g));
-        } else {
-            store.SetGeometry(id, nullptr);
-        }
+        auto g = std::make_shared<HdGiGeometry>();
+        g->isSphere = true;
+        g->radius = _radius;
+        _state.Publish(*this, param, std::move(g));
     }
     *dirtyBits &= ~HdChangeTracker::AllSceneDirtyBits;
 }

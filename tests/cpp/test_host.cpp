@@ -26,6 +26,23 @@ Mat4 frustum(double l, double r, double b, double t, double n, double f) {
     p.m[3][3] = 0;
     return p;
 }
+// A white floor lit by an overhead delta sun, seen from above: returns the floor's shape id.
+int litFloor(Scene& scene, int material) {
+    int floor = addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, material);
+    LightDesc sun;
+    sun.kind = "distant";
+    sun.angle = 0;
+    scene.addLight(sun);
+    scene.setCamera(lookingDown({0, 5, 0}, true, 40));
+    return floor;
+}
+
+RenderSettings smallImage(int size, int spp) {
+    RenderSettings settings;
+    settings.width = settings.height = size;
+    settings.spp = spp;
+    return settings;
+}
 }  // namespace
 
 TEST(Host, ProjectionMatrixCameraMatchesApertureCamera) {
@@ -57,22 +74,14 @@ TEST(Host, ProjectionMatrixCameraMatchesApertureCamera) {
 TEST(Host, FilmReportsShapeAndInstanceIds) {
     Scene scene;
     int white = scene.addMaterial(lambert(Color(0.5f)));
-    int floor = addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, white);
+    int floor = litFloor(scene, white);
     int prototype = scene.addPrototype("/Proto");
     int sphere = scene.addSphere("/Proto/Ball", Vec3(0.0f), 0.5f, white, nullptr, prototype);
     Mat4 at;
     at.m[3][1] = 1;
     int instance = scene.addInstance(prototype, at, "/Proto[0]");
-    LightDesc sun;
-    sun.kind = "distant";
-    sun.angle = 0;
-    scene.addLight(sun);
-    scene.setCamera(lookingDown({0, 5, 0}, true, 40));
     scene.commit();
-    RenderSettings settings;
-    settings.width = settings.height = 16;
-    settings.spp = 2;
-    Renderer renderer(scene, settings);
+    Renderer renderer(scene, smallImage(16, 2));
     renderer.render();
     std::vector<int32_t> shapes = renderer.film().shapeIds(), instances = renderer.film().instanceIds();
     // Centre: the instanced sphere; corner: the floor.
@@ -86,17 +95,9 @@ TEST(Host, FilmReportsShapeAndInstanceIds) {
 TEST(Host, CancelledPassLeavesTheFilmAsItWas) {
     Scene scene;
     int white = scene.addMaterial(lambert(Color(0.5f)));
-    addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, white);
-    LightDesc sun;
-    sun.kind = "distant";
-    sun.angle = 0;
-    scene.addLight(sun);
-    scene.setCamera(lookingDown({0, 5, 0}, true, 40));
+    litFloor(scene, white);
     scene.commit();
-    RenderSettings settings;
-    settings.width = settings.height = 32;
-    settings.spp = 4;
-    Renderer renderer(scene, settings);
+    Renderer renderer(scene, smallImage(32, 4));
     ASSERT_TRUE(renderer.renderPass(0, 1));
     std::vector<float> before = renderer.film().color();
     std::atomic<bool> cancel{true};
