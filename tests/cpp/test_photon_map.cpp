@@ -247,26 +247,7 @@ LightDesc rectLight(const char* name, Vec3 center, Vec3 direction, float size, f
     return light;
 }
 
-struct Render {
-    std::vector<float> rgb;
-    RenderStats stats;
-    std::vector<std::string> warnings;
-};
-
-Render render(Scene& scene, const std::string& integrator, int size, int spp, std::map<std::string, double> params,
-              int threads = 0, uint32_t seed = 1) {
-    scene.commit();
-    RenderSettings settings;
-    settings.width = settings.height = size;
-    settings.spp = spp;
-    settings.integrator = integrator;
-    settings.seed = seed;
-    settings.threads = threads;
-    for (auto& [k, v] : params) settings.params.set(k, v);
-    Renderer renderer(scene, settings);
-    renderer.render();
-    return {renderer.film().color(), renderer.stats(), scene.warnings()};
-}
+using Render = Rendered;  // scenes.h
 
 bool allFinite(const std::vector<float>& rgb) {
     return std::all_of(rgb.begin(), rgb.end(), [](float v) { return std::isfinite(v) && v >= 0; });
@@ -577,7 +558,7 @@ TEST(PhotonMapRender, SameImageWhateverTheThreadCount) {
         auto once = [&](int threads) {
             Scene scene;
             buildThinWallScene(scene);
-            return render(scene, integrator, 16, 2, {{"photons", 20000}, {"finalGatherSamples", 4}, {"paths", 16}}, threads).rgb;
+            return render(scene, integrator, 16, 2, {{"photons", 20000}, {"finalGatherSamples", 4}, {"paths", 16}}, 1, threads).rgb;
         };
         std::vector<float> first = once(0);
         EXPECT_EQ(first, once(0)) << integrator;
