@@ -1,15 +1,12 @@
 """Hydra tests run OpenUSD's own tools (usdrecord, and scripts on its engine) in child
 processes with the OpenUSD build's Python and `pxr`; this process keeps the venv's usd-core,
 so the two `pxr` builds never meet in one interpreter."""
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from openusd import OPENUSD, PLUGIN, REPO, available, openusd_env, openusd_python, run_openusd  # noqa: F401
 
-sys.path.insert(0, str(REPO / "python"))
 CORNELL = REPO / "scenes/cornell/cornell.usda"
 
 if not available():
