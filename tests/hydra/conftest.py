@@ -2,6 +2,8 @@
 processes with the OpenUSD build's Python and `pxr`; this process keeps the venv's usd-core,
 so the two `pxr` builds never meet in one interpreter."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
