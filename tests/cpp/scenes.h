@@ -1,5 +1,6 @@
 // Small analytic scenes built in code for the C++ tests.
 #pragma once
+#include <algorithm>
 #include <vector>
 
 #include "renderer/render.h"
@@ -86,6 +87,18 @@ inline Rendered render(Scene& scene, const std::string& integrator, int size, in
 inline std::vector<float> renderImage(Scene& scene, const std::string& integrator, int size, int spp,
                                       const std::map<std::string, double>& params = {}, uint32_t seed = 1) {
     return render(scene, integrator, size, spp, params, seed).rgb;
+}
+
+// Names of an integrator's reflected parameters (empty if it is not registered).
+inline std::vector<std::string> paramNames(const std::string& integrator) {
+    std::vector<std::string> names;
+    if (const IntegratorInfo* info = findIntegrator(integrator))
+        for (const ParamInfo& p : info->params) names.push_back(p.name);
+    return names;
+}
+
+inline bool hasParam(const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
 }
 
 inline double channelMean(const std::vector<float>& rgb, int channel) {

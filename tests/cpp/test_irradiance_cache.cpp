@@ -94,14 +94,12 @@ const char* const kCaches[] = {"irradianceCache", "adaptiveIrradianceCache"};
 
 TEST(IrradianceCacheRegistry, BothIntegratorsReflectTheirParameters) {
     for (const char* name : kCaches) {
-        const IntegratorInfo* info = findIntegrator(name);
-        ASSERT_NE(info, nullptr) << name;
-        std::vector<std::string> names;
-        for (const ParamInfo& p : info->params) names.push_back(p.name);
+        ASSERT_NE(findIntegrator(name), nullptr) << name;
+        std::vector<std::string> names = paramNames(name);
         for (const char* expected : {"paths", "pathDepth", "rayDepth", "accuracy", "minSpacing", "maxSpacing"})
-            EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << name << " " << expected;
+            EXPECT_TRUE(hasParam(names, expected)) << name << " " << expected;
         bool adaptive = std::string(name) == "adaptiveIrradianceCache";
-        EXPECT_EQ(std::find(names.begin(), names.end(), "threshold") != names.end(), adaptive) << name;
+        EXPECT_EQ(hasParam(names, "threshold"), adaptive) << name;
     }
     ParamSet p;
     p.set("accuracy", -3);  // out of range: clamped
