@@ -146,7 +146,7 @@ def render(scene: Scene, settings: RenderSettings,
     Raises ValueError for an unknown integrator or resolution."""
 
 def write_exr(path: str, result: RenderResult, metadata: dict[str, str] = {}) -> None:
-    """Linear half/float EXR with R,G,B plus depth (Z), normal (N.x..), albedo (albedo.r..) layers; metadata as string attributes."""
+    """Linear half/float EXR with R,G,B plus depth (Z; the largest finite float where nothing was hit, so the file holds no Inf), normal (N.x..), albedo (albedo.r..) layers; metadata as string attributes."""
 
 def write_rgb_exr(path: str, color: npt.NDArray[np.float32], metadata: dict[str, str] = {}) -> None:
     """A plain linear R,G,B EXR from an (H, W, 3) array."""

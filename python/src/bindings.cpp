@@ -1,4 +1,6 @@
 // gi._core: the renderer for Python (see python/gi/_core.pyi for the documented API).
+#include <cmath>
+#include <limits>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/function.h>
@@ -373,8 +375,12 @@ void bindRendering(nb::module_& m) {
             auto normal = nb::cast<ImageArray>(r.normal);
             auto albedo = nb::cast<ImageArray>(r.albedo);
             int h = int(color.shape(0)), w = int(color.shape(1));
+            // The file holds no Inf: pixels that hit nothing get the largest finite depth.
+            std::vector<float> z(depth.data(), depth.data() + size_t(w) * h);
+            for (float& v : z)
+                if (!std::isfinite(v)) v = std::numeric_limits<float>::max();
             std::vector<ImageLayer> layers{{"", {"R", "G", "B"}, color.data()},
-                                           {"", {"Z"}, depth.data()},
+                                           {"", {"Z"}, z.data()},
                                            {"N", {"X", "Y", "Z"}, normal.data()},
                                            {"albedo", {"R", "G", "B"}, albedo.data()}};
             nb::gil_scoped_release release;

@@ -16,6 +16,7 @@ def test_render_writes_exr_png_and_summary(cornell, tmp_path):
     assert pixels.shape == (64, 64, 10)  # R G B Z N.XYZ albedo.RGB
     assert meta["channels"][:4] == ["R", "G", "B", "Z"]
     assert np.isfinite(pixels[..., :3]).all()
+    assert np.isfinite(pixels).all()  # every layer: pixels that hit nothing get a finite Z too
     assert meta["gi:integrator"] == "path" and meta["gi:spp"] == "4" and meta["gi:seed"] == "3"
     assert json.loads(meta["gi:params"]) == {"pathDepth": 5}
     png, _ = _core.read_image(str(out.with_suffix(".png")))
