@@ -26,6 +26,7 @@ Bsdf::Bsdf(const BsdfParams& p)
     hasSpecular_ = maxComponent(params_.specularF0) > 0 || params_.specularF90 > 0;
     hasClearcoat_ = params_.clearcoat > 0;
     nonDeltaWeight_ = (opaqueNonDelta || dielectricNonDelta) ? 1.0f : 0.0f;
+    lambertian_ = params_.transmission == 0 && !hasSpecular_ && !hasClearcoat_;
 }
 
 Bsdf::LobeWeights Bsdf::lobeWeights(const Vec3& wo) const {
@@ -120,12 +121,16 @@ float Bsdf::pdfRoughDielectric(const Vec3& wo, const Vec3& wi) const {
 }
 
 Color Bsdf::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+    if (lambertian_) return wo.z > 0 && wi.z > 0 ? diffuse_ * kInvPi : Color(0.0f);
     Color f = evalOpaque(wo, wi);
     if (params_.transmission > 0) f += evalRoughDielectric(wo, wi, mode);
     return f;
 }
 
-float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const { return pdfWithWeights(wo, wi, lobeWeights(wo)); }
+float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
+    if (lambertian_) return wo.z > 0 ? cosineHemispherePdf(wi.z) : 0.0f;
+    return pdfWithWeights(wo, wi, lobeWeights(wo));
+}
 
 float Bsdf::pdfWithWeights(const Vec3& wo, const Vec3& wi, const LobeWeights& w) const {
     float p = pdfOpaqueLobes(wo, wi, w);
@@ -172,8 +177,20 @@ BsdfSample Bsdf::sampleDielectric(const Vec3& wo, float uc, Vec2 u, TransportMod
     return s;  // weight and pdf are filled by the caller from eval/pdf (one-sample MIS over lobes)
 }
 
+BsdfSample Bsdf::sampleLambertian(const Vec3& wo, Vec2 u) const {
+    BsdfSample s;
+    if (wo.z <= 0 || isBlack(diffuse_)) return s;
+    s.wi = sampleCosineHemisphere(u);
+    s.pdf = cosineHemispherePdf(s.wi.z);
+    if (!(s.pdf > 0)) return BsdfSample();
+    s.weight = diffuse_;  // (albedo / pi) * cos / (cos / pi)
+    s.valid = true;
+    return s;
+}
+
 BsdfSample Bsdf::sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const {
     if (wo.z == 0) return BsdfSample();
+    if (lambertian_) return sampleLambertian(wo, u);
     LobeWeights w = lobeWeights(wo);
     BsdfSample s;
     float uc = uLobe;

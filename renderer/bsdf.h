@@ -64,6 +64,7 @@ private:
     Color evalRoughDielectric(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
     float pdfRoughDielectric(const Vec3& wo, const Vec3& wi) const;
     float pdfWithWeights(const Vec3& wo, const Vec3& wi, const LobeWeights& w) const;
+    BsdfSample sampleLambertian(const Vec3& wo, Vec2 u) const;
     BsdfSample sampleDielectric(const Vec3& wo, float uc, Vec2 u, TransportMode mode) const;
 
     BsdfParams params_;
@@ -72,6 +73,8 @@ private:
     float nonDeltaWeight_ = 1;
     // Lobes that can contribute at all: lets a plain Lambertian surface skip the microfacet math.
     bool hasSpecular_ = true, hasClearcoat_ = true;
+    // Only the Lambertian lobe (most of a typical scene): eval, pdf and sample skip lobe selection.
+    bool lambertian_ = false;
 };
 
 }  // namespace gi

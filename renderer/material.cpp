@@ -48,6 +48,7 @@ Material::Material(const MaterialDesc& desc, const TextureBinder& bindTexture) :
     }
     emissive_ = maxComponent(desc_.emissiveColor) > 0 || emissiveTex_.valid();
     hasPresence_ = desc_.opacityMode == "presence" || desc_.opacityThreshold > 0;
+    transparentMode_ = desc_.opacityMode == "transparent";
     // Caustic paths need a smooth reflector or a transmitter somewhere; rough lobes blur them
     // into ordinary indirect light that the global photon map already carries.
     constexpr float kCausticRoughness = 0.2f;
@@ -55,6 +56,9 @@ Material::Material(const MaterialDesc& desc, const TextureBinder& bindTexture) :
                                                         : true;  // metallic workflow always has a Fresnel lobe
     specular_ = transmits() || (desc_.roughness < kCausticRoughness && reflectsSpecularly) ||
                 (desc_.clearcoat > 0 && desc_.clearcoatRoughness < kCausticRoughness);
+    constantBsdf_ = !diffuseTex_.valid() && !specularTex_.valid() && !metallicTex_.valid() && !roughnessTex_.valid() &&
+                    !(transparentMode_ && opacity_.valid());
+    if (constantBsdf_) bsdf_ = evalBsdf(Vec2(0.0f, 0.0f));
 }
 
 Color Material::emission(Vec2 uv) const {
@@ -70,13 +74,15 @@ float Material::presence(Vec2 uv) const {
     return a;
 }
 
-Bsdf Material::bsdf(Vec2 uv) const {
+Bsdf Material::bsdf(Vec2 uv) const { return constantBsdf_ ? bsdf_ : evalBsdf(uv); }
+
+Bsdf Material::evalBsdf(Vec2 uv) const {
     BsdfParams p;
     Color base = diffuseTex_.valid() ? sanitize(diffuseTex_.evalColor(uv)) : desc_.diffuseColor;
     base = vmin(base, Color(1.0f));
     float roughness = roughnessTex_.valid() ? sanitize01(roughnessTex_.evalFloat(uv), 0.5f) : desc_.roughness;
     float opacity = 1;
-    if (desc_.opacityMode == "transparent")
+    if (transparentMode_)
         opacity = opacity_.valid() ? sanitize01(opacity_.evalFloat(uv), 1) : desc_.opacity;
     p.roughness = roughness;
     p.clearcoat = desc_.clearcoat;

@@ -44,17 +44,23 @@ public:
     bool hasPresence() const { return hasPresence_; }
     // True when any lobe is a delta or glossy reflector/transmitter (caustic paths need these).
     bool isSpecular() const { return specular_; }
-    bool transmits() const { return desc_.opacityMode == "transparent" && (desc_.opacity < 1 || opacity_.valid()); }
+    bool transmits() const { return transparentMode_ && (desc_.opacity < 1 || opacity_.valid()); }
     const MaterialDesc& desc() const { return desc_; }
     // Inputs whose NaN, Inf or negative values were replaced by defaults.
     const std::vector<std::string>& repairedInputs() const { return repaired_; }
 
 private:
+    Bsdf evalBsdf(Vec2 uv) const;
+
     MaterialDesc desc_;
     Texture diffuseTex_, emissiveTex_, specularTex_, metallicTex_, roughnessTex_, opacity_;
     bool emissive_ = false;
     bool hasPresence_ = false;
     bool specular_ = false;
+    bool transparentMode_ = true;
+    // Untextured materials build their BSDF once, not at every shading point.
+    bool constantBsdf_ = false;
+    Bsdf bsdf_;
     std::vector<std::string> repaired_;
 };
 
