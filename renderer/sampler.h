@@ -42,13 +42,18 @@ inline uint32_t nestedUniformScramble(uint32_t x, uint32_t seed) {
 }
 
 // Sobol's second dimension is linear over GF(2) in the index bits, so it is evaluated a byte
-// at a time from four 256-entry tables instead of a loop over all 32 bits.
+// at a time from four 256-entry tables instead of a loop over all 32 bits. The tables hold the
+// bit-reversed values: the Owen scramble works on reversed bits, so this saves a reversal.
 struct SobolDimension1Tables {
     uint32_t table[4][256];
     constexpr SobolDimension1Tables() : table() {
         uint32_t direction[32] = {};
         uint32_t v = 1u << 31;
-        for (int bit = 0; bit < 32; ++bit, v ^= v >> 1) direction[bit] = v;
+        for (int bit = 0; bit < 32; ++bit, v ^= v >> 1) {
+            uint32_t reversed = 0;
+            for (int b = 0; b < 32; ++b) reversed |= ((v >> b) & 1u) << (31 - b);
+            direction[bit] = reversed;
+        }
         for (int byte = 0; byte < 4; ++byte)
             for (uint32_t value = 0; value < 256; ++value) {
                 uint32_t r = 0;
@@ -60,7 +65,8 @@ struct SobolDimension1Tables {
 };
 inline constexpr SobolDimension1Tables kSobolDimension1{};
 
-inline uint32_t sobolDimension1(uint32_t index) {
+// reverseBits(Sobol dimension 1 of index).
+inline uint32_t sobolDimension1Reversed(uint32_t index) {
     return kSobolDimension1.table[0][index & 0xff] ^ kSobolDimension1.table[1][(index >> 8) & 0xff] ^
            kSobolDimension1.table[2][(index >> 16) & 0xff] ^ kSobolDimension1.table[3][index >> 24];
 }
@@ -84,7 +90,7 @@ public:
         // nestedUniformScramble(reverseBits(index)) simplified: the two bit reversals cancel.
         // Per-coordinate seeds from the pair's hash by odd multipliers: distinct, and cheaper than rehashing.
         uint32_t x = reverseBits(laineKarrasPermutation(index, pairSeed * 0x68bc21ebu));
-        uint32_t y = nestedUniformScramble(sobolDimension1(index), pairSeed * 0x02e5be93u);
+        uint32_t y = reverseBits(laineKarrasPermutation(sobolDimension1Reversed(index), pairSeed * 0x02e5be93u));
         return {uintToUnitFloat(x), uintToUnitFloat(y)};
     }
     float get1D() { return get2D().x; }

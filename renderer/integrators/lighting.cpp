@@ -22,10 +22,15 @@ ShadingPoint makeShadingPoint(const SurfaceInteraction& si, const Vec3& wo) {
 
 Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Sampler& sampler, RayStats& stats, bool mis) {
     Vec2 uLight = sampler.get2D();
-    Vec2 uSelect = sampler.get2D();
+    float uSelect = sampler.get1D();
+    return sampleDirectLight(scene, sp, uLight, uSelect, stats, mis);
+}
+
+Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Vec2 uLight, float uSelect, RayStats& stats,
+                        bool mis) {
     if (scene.lights().empty() || !sp.bsdf.hasNonDelta()) return Color(0.0f);
     float pmf;
-    int index = scene.lightDistribution().sample(uSelect.x, &pmf);
+    int index = scene.lightDistribution().sample(uSelect, &pmf);
     const Light& light = *scene.lights()[index];
     LightSample ls = light.sample(sp.si.p, uLight);
     if (!(ls.pdf > 0) || isBlack(ls.Li)) return Color(0.0f);

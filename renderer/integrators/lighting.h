@@ -20,6 +20,9 @@ ShadingPoint makeShadingPoint(const SurfaceInteraction& si, const Vec3& wo);
 // Direct light at a shading point from one light chosen by power, MIS-weighted against BSDF
 // sampling when `mis` is set (pure light sampling otherwise).
 Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Sampler& sampler, RayStats& stats, bool mis);
+// The same with the caller's samples: uLight picks the point on the light, uSelect the light.
+Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Vec2 uLight, float uSelect, RayStats& stats,
+                        bool mis);
 
 // Radiance from an emitter reached by a BSDF-sampled ray, MIS-weighted against light sampling.
 // prevPdf: BSDF pdf of the sampled direction; prevDelta: it came from a delta lobe (no MIS).

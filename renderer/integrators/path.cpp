@@ -42,9 +42,11 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
     Color L(0.0f), beta(1.0f);
     int vertices = 1, specularVertices = 0;
     for (;;) {
-        L += beta * sampleDirectLight(scene, sp, sampler, stats, true);
-        float uLobe = sampler.get1D();
-        BsdfSample bs = sp.bsdf.sample(sp.woLocal, uLobe, sampler.get2D());
+        // Four sample pairs per vertex: the light point, (light choice, BSDF lobe), the BSDF
+        // direction and Russian roulette.
+        Vec2 uLight = sampler.get2D(), uChoice = sampler.get2D();
+        L += beta * sampleDirectLight(scene, sp, uLight, uChoice.x, stats, true);
+        BsdfSample bs = sp.bsdf.sample(sp.woLocal, uChoice.y, sampler.get2D());
         if (!bs.valid) break;
         if (bs.delta && ++specularVertices > rayDepth_) break;
         beta *= bs.weight;
