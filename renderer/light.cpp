@@ -85,6 +85,14 @@ public:
         float a = dot(q, e1_) / dot(e1_, e1_), b = dot(q, e2_) / dot(e2_, e2_);
         return (a >= 0 && a <= 1 && b >= 0 && b <= 1) ? t : kInf;
     }
+    bool shapeBounds(Vec3* lo, Vec3* hi) const override {
+        *lo = *hi = p0_;
+        for (Vec3 p : {p0_ + e1_, p0_ + e2_, p0_ + e1_ + e2_}) {
+            *lo = vmin(*lo, p);
+            *hi = vmax(*hi, p);
+        }
+        return true;
+    }
 
 private:
     Vec3 p0_, e1_, e2_, n_;
@@ -109,6 +117,11 @@ public:
         float t = dot(c_ - r.o, frame_.n) / denom;
         if (!(t > r.tMin && t < r.tMax)) return kInf;
         return lengthSquared(r.o + r.d * t - c_) <= r_ * r_ ? t : kInf;
+    }
+    bool shapeBounds(Vec3* lo, Vec3* hi) const override {
+        *lo = c_ - Vec3(r_);
+        *hi = c_ + Vec3(r_);
+        return true;
     }
 
 private:
@@ -164,6 +177,11 @@ public:
     }
     Color radiance(const Vec3&) const override { return L_; }
     float intersect(const Ray& r) const override { return intersectSphere(r, c_, r_); }
+    bool shapeBounds(Vec3* lo, Vec3* hi) const override {
+        *lo = c_ - Vec3(r_);
+        *hi = c_ + Vec3(r_);
+        return true;
+    }
 
 private:
     Vec3 c_;
@@ -198,6 +216,11 @@ public:
         for (float t : {(-b - sq) / a, (-b + sq) / a})
             if (t > r.tMin && t < r.tMax && std::fabs(o.z + t * d.z) <= h_) return t;
         return kInf;
+    }
+    bool shapeBounds(Vec3* lo, Vec3* hi) const override {
+        *lo = c_ - Vec3(h_ + r_);
+        *hi = c_ + Vec3(h_ + r_);
+        return true;
     }
 
 private:

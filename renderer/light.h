@@ -51,8 +51,11 @@ public:
     virtual float pdf(const Vec3& ref, const Vec3& wi, float t) const = 0;
     // Radiance leaving the light towards -wi at a ray-light intersection (or escaping, for infinite lights).
     virtual Color radiance(const Vec3& wi) const = 0;
-    // Analytic ray intersection for area lights (they are not in the BVH); returns t or inf.
+    // Analytic ray intersection for area lights (they are not in the surface BVH); returns t or inf.
     virtual float intersect(const Ray&) const { return kInf; }
+    // World-space box around an analytic shape (what intersect() can hit); false for lights
+    // without one (infinite lights, emissive triangles, which the surface BVH holds).
+    virtual bool shapeBounds(Vec3* lo, Vec3* hi) const { return false; }
     virtual Color power(const SceneBounds&) const = 0;
     virtual PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&) const = 0;
     virtual bool isInfinite() const { return false; }

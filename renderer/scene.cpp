@@ -34,6 +34,7 @@ Scene::~Scene() {
     for (auto& p : prototypes_)
         if (p.rtc) rtcReleaseScene(p.rtc);
     if (top_) rtcReleaseScene(top_);
+    if (lightBvh_) rtcReleaseScene(lightBvh_);
     rtcReleaseDevice(device_);
 }
 
@@ -376,7 +377,10 @@ void Scene::buildLights() {
         lights_[i]->preprocess(bounds_);
         power.push_back(luminance(lights_[i]->power(bounds_)));
         if (lights_[i]->isInfinite()) infiniteLights_.push_back(int(i));
+        Vec3 lo, hi;
+        if (lights_[i]->shapeBounds(&lo, &hi)) analyticLights_.push_back(int(i));
     }
+    buildLightBvh();
     if (!power.empty()) lightDistribution_ = Distribution1D(power.data(), int(power.size()));
     stats_.lights = lights_.size();
 }
@@ -450,6 +454,88 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const RTCRayHit& rh) c
     return si;
 }
 
+namespace {
+// Up to this many analytic lights are tested one by one after the surface BVH; more (a church's
+// windows, a stadium's lamps) get a BVH of their own, so a ray's cost does not grow with them.
+constexpr size_t kLinearLightTests = 4;
+
+struct LightIntersectContext {
+    RTCIntersectContext embree;  // first: Embree hands the callback this pointer
+    bool cameraRay;
+};
+}  // namespace
+
+void Scene::buildLightBvh() {
+    if (analyticLights_.size() <= kLinearLightTests) return;
+    lightBvh_ = rtcNewScene(device_);
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, unsigned(analyticLights_.size()));
+    rtcSetGeometryUserData(g, this);
+    rtcSetGeometryBoundsFunction(
+        g,
+        [](const RTCBoundsFunctionArguments* args) {
+            const Scene* scene = static_cast<const Scene*>(args->geometryUserPtr);
+            Vec3 lo, hi;
+            scene->lights_[scene->analyticLights_[args->primID]]->shapeBounds(&lo, &hi);
+            // Flat lights have flat boxes: pad them by their coordinates' float error.
+            Vec3 pad(pointErrorBound(lo) + pointErrorBound(hi));
+            lo = lo - pad;
+            hi = hi + pad;
+            *args->bounds_o = RTCBounds{lo.x, lo.y, lo.z, 0, hi.x, hi.y, hi.z, 0};
+        },
+        nullptr);
+    rtcSetGeometryIntersectFunction(g, intersectLightPrimitive);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(lightBvh_, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(lightBvh_);
+}
+
+void Scene::intersectLightPrimitive(const RTCIntersectFunctionNArguments* args) {
+    // Only rtcIntersect1 reaches this scene: one ray, laid out as an RTCRayHit.
+    if (!args->valid[0]) return;
+    const Scene* scene = static_cast<const Scene*>(args->geometryUserPtr);
+    const Light& light = *scene->lights_[scene->analyticLights_[args->primID]];
+    if (reinterpret_cast<const LightIntersectContext*>(args->context)->cameraRay && !light.visibleToCamera) return;
+    RTCRayHit* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+    Ray ray{{rh->ray.org_x, rh->ray.org_y, rh->ray.org_z}, {rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z},
+            rh->ray.tnear, rh->ray.tfar};
+    float t = light.intersect(ray);
+    if (t < rh->ray.tfar) {
+        rh->ray.tfar = t;
+        rh->hit.geomID = args->geomID;
+        rh->hit.primID = args->primID;
+    }
+}
+
+void Scene::intersectAnalyticLights(const Ray& ray, bool cameraRay, Intersection& result) const {
+    if (lightBvh_) {
+        LightIntersectContext context;
+        rtcInitIntersectContext(&context.embree);
+        context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+        context.cameraRay = cameraRay;
+        RTCRayHit rh = toEmbreeRayHit(ray.o, ray.d, ray.tMin, result.t);
+        rtcIntersect1(lightBvh_, &context.embree, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+        result.kind = Intersection::Kind::Light;
+        result.light = analyticLights_[rh.hit.primID];
+        result.t = rh.ray.tfar;
+        return;
+    }
+    Ray lightRay = ray;
+    lightRay.tMax = result.t;
+    for (int i : analyticLights_) {
+        if (cameraRay && !lights_[i]->visibleToCamera) continue;
+        float t = lights_[i]->intersect(lightRay);
+        if (t < lightRay.tMax) {
+            lightRay.tMax = t;
+            result.kind = Intersection::Kind::Light;
+            result.light = i;
+            result.t = t;
+        }
+    }
+}
+
 Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) const {
     ++stats.rays;
     // A NaN ray (from a broken camera or a numerical accident upstream) hits nothing: Embree's
@@ -465,19 +551,8 @@ Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) c
         result.kind = Intersection::Kind::Surface;
         result.t = rh.ray.tfar;
     }
-    // Area lights are few and analytic: test them after the BVH, up to the surface hit.
-    Ray lightRay = ray;
-    lightRay.tMax = result.t;
-    for (size_t i = 0; i < lights_.size(); ++i) {
-        if (cameraRay && !lights_[i]->visibleToCamera) continue;
-        float t = lights_[i]->intersect(lightRay);
-        if (t < lightRay.tMax) {
-            lightRay.tMax = t;
-            result.kind = Intersection::Kind::Light;
-            result.light = int(i);
-            result.t = t;
-        }
-    }
+    // Area lights are analytic: tested after the surface BVH, up to the surface hit.
+    intersectAnalyticLights(ray, cameraRay, result);
     if (result.kind == Intersection::Kind::Surface) result.si = makeInteraction(ray, rh);
     return result;
 }

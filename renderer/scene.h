@@ -127,6 +127,10 @@ private:
 
     void buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, int shapeId);
     void buildLights();
+    void buildLightBvh();
+    // The nearest analytic light (rect, disk, sphere, cylinder) along `ray` before its tMax.
+    void intersectAnalyticLights(const Ray& ray, bool cameraRay, Intersection& result) const;
+    static void intersectLightPrimitive(const struct RTCIntersectFunctionNArguments* args);
     void bindMaterials();
     SurfaceInteraction makeInteraction(const Ray& ray, const RTCRayHit& hit) const;
     Texture loadTexture(const TextureDesc& desc, const std::string& materialName, const std::string& input);
@@ -144,6 +148,8 @@ private:
     std::vector<LightDesc> lightDescs_;
     std::vector<std::unique_ptr<Light>> lights_;
     std::vector<int> infiniteLights_;
+    std::vector<int> analyticLights_;  // lights with a shape of their own (not in top_)
+    RTCScene lightBvh_ = nullptr;      // over analyticLights_, when there are more than a few
     Distribution1D lightDistribution_;
     SceneBounds bounds_;
     Vec3 boundsMin_{0.0f}, boundsMax_{0.0f};

@@ -160,3 +160,52 @@ TEST(Camera, PerspectiveMatchesTheCornellSpec) {
     EXPECT_NEAR(r.d.x / -r.d.z, -0.357143f, 1e-5f);
     EXPECT_NEAR(r.d.y / -r.d.z, 0.357143f, 1e-5f);
 }
+
+namespace {
+
+// Twelve lights of every analytic kind in a 4 x 3 grid on the plane y = 0, facing a camera above;
+// `only` >= 0 keeps just that one. The third is hidden from the camera.
+void addLightGrid(Scene& scene, int only) {
+    const char* kinds[] = {"rect", "disk", "sphere", "cylinder"};
+    for (int i = 0; i < 12; ++i) {
+        if (only >= 0 && i != only) continue;
+        LightDesc d;
+        d.name = "/Light" + std::to_string(i);
+        d.kind = kinds[i % 4];
+        d.color = Color(0.2f + 0.05f * i, 1.0f - 0.05f * i, 0.5f);
+        d.width = d.height = 0.8f;
+        d.radius = 0.4f;
+        d.length = 0.8f;
+        d.visibleToCamera = i != 2;
+        // Rotate -Z (where rect and disk lights emit) to +Y, towards the camera; then place.
+        d.transform.m[1][1] = 0, d.transform.m[1][2] = 1;
+        d.transform.m[2][1] = -1, d.transform.m[2][2] = 0;
+        d.transform.m[3][0] = -3 + 2.0f * float(i % 4);
+        d.transform.m[3][2] = -2 + 2.0f * float(i / 4);
+        scene.addLight(d);
+    }
+    scene.setCamera(lookingDown({0, 10, 0}, true, 90));
+}
+
+}  // namespace
+
+// More than a few analytic lights go into a BVH of their own; what a ray hits must not change.
+TEST(AnalyticLights, BvhHitsWhatOneByOneTestsHit) {
+    Scene all;
+    addLightGrid(all, -1);
+    std::vector<float> together = renderImage(all, "direct", 48, 4);
+    std::vector<double> sum(together.size(), 0.0);
+    for (int i = 0; i < 12; ++i) {
+        Scene one;
+        addLightGrid(one, i);
+        std::vector<float> alone = renderImage(one, "direct", 48, 4);
+        ASSERT_EQ(alone.size(), sum.size());
+        for (size_t k = 0; k < sum.size(); ++k) sum[k] += alone[k];
+    }
+    double lit = 0;
+    for (size_t k = 0; k < sum.size(); ++k) {
+        EXPECT_NEAR(together[k], sum[k], 1e-5 * (1 + sum[k])) << "value " << k;
+        lit += sum[k] > 0;
+    }
+    EXPECT_GT(lit, 0.05 * double(sum.size()));  // eleven lights in view, about a tenth of the frame
+}
