@@ -525,7 +525,7 @@ TEST(PhotonMapRender, CornellBoxConvergesToThePathTracer) {
     const std::map<std::string, double> deep = {{"photonDepth", 30}, {"rayDepth", 30}, {"pathDepth", 30}};
     Scene reference;
     buildGlassCornellBox(reference);
-    Render path = render(reference, "path", size, 1024, deep);
+    Render path = render(reference, "path", size, 2048, deep);
     struct Budget {
         double photons, gatherPhotons, finalGatherSamples, paths;
     };
