@@ -1,0 +1,302 @@
+"""Irradiance caching (issue 4) and photon mapping (issue 5) against a path-traced reference on the
+project's Cornell box, scenes/cornell/cornell.usda (../shared/specs/cornell.md).
+
+The error measure is the error of the *indirect* component. Every integrator under test is the ray
+tracer (emission, direct light by light sampling, specular recursion) plus an indirect term, and
+with the same seed, samples and light samples the ray tracer's own part draws the same random
+numbers in `direct` as in the caches (they draw nothing from the pixel's sampler), so
+render(integrator) - render("direct") is that integrator's indirect light without the direct
+light's noise or the visible light's edges. The reference's indirect light is the path tracer's
+image minus a many-sample `direct` image. The reference (1024 spp at 40x40) is rendered once per
+module and carries about 0.005 of noise per pixel; every error below is measured against the same
+reference, so that noise adds the same amount to each setting's error.
+
+Run with -s to see the figures."""
+import math
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import CORNELL, render
+
+RESOLUTION = (40, 40)
+REFERENCE_SPP = 1024
+SPP = 16
+LIGHT_SAMPLES = 4  # in the caches and in the `direct` images subtracted from them
+
+# Geometry from the specification (sections 2 and 5).
+EYE = np.array([0.0, 0.0, 3.9])
+TAN_HALF_FOV = 0.357143
+SPHERE_CENTER, SPHERE_RADIUS = np.array([0.0, -0.6, 0.0]), 0.4
+CONTACT = np.array([0.0, -1.0, 0.0])  # where the sphere rests on the floor
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+
+
+def luminance(rgb):
+    return rgb @ LUMINANCE
+
+
+def rgb(image):
+    return np.asarray(image, dtype=np.float64)[..., :3]
+
+
+def view_rays(width, height, eye=EYE, tan_x=TAN_HALF_FOV, tan_y=TAN_HALF_FOV, pitch_degrees=0.0):
+    """Unit directions of the pixel-centre rays of a pinhole camera looking down -z, tilted by
+    `pitch_degrees` about x (negative looks down), as USD's xformOp:rotateX."""
+    j, i = np.mgrid[0:height, 0:width]
+    d = np.stack([(2 * (i + 0.5) / width - 1) * tan_x, (1 - 2 * (j + 0.5) / height) * tan_y,
+                  -np.ones((height, width))], axis=-1)
+    a = math.radians(pitch_degrees)
+    c, s = math.cos(a), math.sin(a)
+    d = np.stack([d[..., 0], c * d[..., 1] - s * d[..., 2], s * d[..., 1] + c * d[..., 2]], axis=-1)
+    return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+
+def first_hits(directions, eye):
+    """(hits the glass sphere, floor point where the ray reaches the floor first, else NaN)."""
+    oc = eye - SPHERE_CENTER
+    b = (directions * oc).sum(-1)
+    disc = b * b - (oc @ oc - SPHERE_RADIUS ** 2)
+    sphere = (disc > 0) & (-b - np.sqrt(np.maximum(disc, 0)) > 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(directions[..., 1] < 0, (-1 - eye[1]) / directions[..., 1], np.nan)
+    floor = eye + t[..., None] * directions
+    inside = (np.abs(floor[..., 0]) <= 1) & (np.abs(floor[..., 2]) <= 1) & ~sphere
+    floor[~inside] = np.nan
+    return sphere, floor
+
+
+def dilate(mask):
+    out = mask.copy()
+    out[1:, :] |= mask[:-1, :]
+    out[:-1, :] |= mask[1:, :]
+    out[:, 1:] |= mask[:, :-1]
+    out[:, :-1] |= mask[:, 1:]
+    return out
+
+
+def floor_under_sphere(floor):
+    """Floor points within the sphere's radius of where it touches the floor (the caustic and
+    the sphere's shadow)."""
+    distance = np.hypot(floor[..., 0] - CONTACT[0], floor[..., 2] - CONTACT[2])
+    return np.nan_to_num(distance, nan=np.inf) < SPHERE_RADIUS
+
+
+@pytest.fixture(scope="module")
+def reference():
+    """The path-traced reference's indirect light, and the pixels away from the glass sphere
+    (the sphere, the floor under it and a pixel around both)."""
+    path, _, _ = render(CORNELL, "path", spp=REFERENCE_SPP, seed=1, resolution=RESOLUTION)
+    direct, _, _ = render(CORNELL, "direct", spp=256, seed=1, resolution=RESOLUTION, lightSamples=LIGHT_SAMPLES)
+    sphere, floor = first_hits(view_rays(*RESOLUTION), EYE)
+    away_from_glass = ~dilate(sphere | floor_under_sphere(floor))
+    return rgb(path) - rgb(direct), away_from_glass
+
+
+def indirect(integrator, seed, **params):
+    """An integrator's indirect light (its image minus the ray tracer's with the same samples)."""
+    image, result, _ = render(CORNELL, integrator, spp=SPP, seed=seed, resolution=RESOLUTION,
+                              lightSamples=LIGHT_SAMPLES, **params)
+    direct, _, _ = render(CORNELL, "direct", spp=SPP, seed=seed, resolution=RESOLUTION, lightSamples=LIGHT_SAMPLES)
+    return rgb(image) - rgb(direct), result.stats
+
+
+def rmse(image, reference, mask=None):
+    squared = ((image - reference) ** 2).sum(-1) / 3
+    return float(np.sqrt(squared[mask].mean() if mask is not None else squared.mean()))
+
+
+def laplacian_energy(image, reference):
+    """Energy of the discrete Laplacian of the luminance error (tests/cpp/test_irradiance_cache.cpp's
+    measure): seams and blotches, not a smooth bias."""
+    e = luminance(image - reference)
+    lap = 4 * e[1:-1, 1:-1] - e[:-2, 1:-1] - e[2:, 1:-1] - e[1:-1, :-2] - e[1:-1, 2:]
+    return float((lap ** 2).mean())
+
+
+# --- issue 4: irradiance caching ------------------------------------------------------------------
+
+def test_irradiance_cache_error_falls_as_accuracy_tightens(reference):
+    """The cache's error on the diffuse surfaces falls at each of three tighter accuracies.
+
+    Measured on the pixels away from the glass sphere: the caustic under it is a sharp feature
+    that hemisphere-sampled records resolve neither at any accuracy (their caustic paths are
+    noisy and the records at least 1.5 pixels apart), and the error there stays at about 0.008
+    from accuracy 0.5 on; that part is the photon map's (issue 5, below). maxSpacing is the
+    image's width so that the accuracy alone sets the record radii (the default 10-pixel cap
+    makes every accuracy up to 0.25 the same cache at 40x40), and 512 paths per record keep the
+    records' noise below the interpolation error. Beyond accuracy 0.5 the cache's remaining
+    error on this box (measured against an 8192-spp reference: about 0.0035, mostly record and
+    reference noise) no longer changes measurably at this resolution."""
+    reference_indirect, away = reference
+    errors, records = [], []
+    for accuracy in (0.125, 0.25, 0.5):
+        squared = []
+        for seed in (0, 1):
+            image, stats = indirect("irradianceCache", seed, accuracy=accuracy, paths=512, maxSpacing=RESOLUTION[0])
+            squared.append(rmse(image, reference_indirect, away) ** 2)
+        errors.append(math.sqrt(np.mean(squared)))
+        records.append(int(stats["records"]))
+        print(f"irradianceCache accuracy {accuracy}: {records[-1]} records, indirect RMSE away from the glass "
+              f"{errors[-1]:.5f}")
+    assert records[0] < records[1] < records[2], records
+    assert errors[0] > errors[1] > errors[2], errors
+
+
+def test_adaptive_refinement_has_no_more_discontinuities(reference):
+    """At about equal record count (the plain cache at the first accuracy that reaches the adaptive
+    cache's records at accuracy 1) the adaptive cache's error has no more high-frequency energy,
+    summed over three seeds (a single seed's figures differ by a few percent either way when
+    both caches are close). Over the whole image: the seams that matter are at the caustic."""
+    reference_indirect, away = reference
+    adaptive_total = plain_total = 0.0
+    for seed in (0, 1, 2):
+        adaptive, adaptive_stats = indirect("adaptiveIrradianceCache", seed, accuracy=1, paths=512)
+        target = adaptive_stats["records"]
+        for accuracy in (1, 1.5, 2, 3, 4):
+            plain, plain_stats = indirect("irradianceCache", seed, accuracy=accuracy, paths=512)
+            if plain_stats["records"] >= target:
+                break
+        else:
+            pytest.fail(f"seed {seed}: no plain cache reached {target:.0f} records")
+        a, p = laplacian_energy(adaptive, reference_indirect), laplacian_energy(plain, reference_indirect)
+        print(f"seed {seed}: adaptive {target:.0f} records, Laplacian energy {a:.3g}; plain (accuracy {accuracy}) "
+              f"{plain_stats['records']:.0f} records, {p:.3g}; RMSE {rmse(adaptive, reference_indirect):.5f} vs "
+              f"{rmse(plain, reference_indirect):.5f}")
+        adaptive_total += a
+        plain_total += p
+    print(f"sum over seeds: adaptive {adaptive_total:.3g}, plain {plain_total:.3g}")
+    assert adaptive_total <= plain_total, (adaptive_total, plain_total)
+
+
+# --- issue 5: photon mapping ----------------------------------------------------------------------
+
+PHOTON_LEVELS = {
+    "photonMapFinalGather": [dict(photons=5000, causticPhotons=5000, finalGatherSamples=4),
+                             dict(photons=50000, causticPhotons=50000, finalGatherSamples=16),
+                             dict(photons=200000, causticPhotons=200000, finalGatherSamples=32)],
+    "photonMapIrradianceCache": [dict(photons=5000, causticPhotons=5000, paths=30),
+                                 dict(photons=50000, causticPhotons=50000, paths=120),
+                                 dict(photons=200000, causticPhotons=200000, paths=480)],
+}
+
+
+@pytest.mark.parametrize("integrator", sorted(PHOTON_LEVELS))
+def test_photon_mapping_converges_with_photons_and_gather_rays(reference, integrator):
+    """The indirect error over the whole image (caustic included) falls as the photons and the
+    gather rays (final-gather rays; the hemisphere paths of the records that photons do not
+    cover) grow."""
+    reference_indirect, _ = reference
+    errors = []
+    for params in PHOTON_LEVELS[integrator]:
+        image, _ = indirect(integrator, 0, **params)
+        errors.append(rmse(image, reference_indirect))
+        print(f"{integrator} {params}: indirect RMSE {errors[-1]:.5f}")
+    assert errors[0] > errors[1] > errors[2], errors
+
+
+# The caustic: seen from the scene camera it is a sliver under the sphere, so a second camera looks
+# at it from just above the floor in front of the sphere (in a layer over the scene file).
+CAUSTIC_EYE = (0.0, -0.9, 1.0)
+CAUSTIC_PITCH = -6.5
+CAUSTIC_RESOLUTION = (48, 12)
+CAUSTIC_TAN_X = math.tan(math.radians(15))
+CAUSTIC_FOCAL = 50.0
+
+
+@pytest.fixture(scope="module")
+def caustic_scene():
+    w, h = CAUSTIC_RESOLUTION
+    horizontal = 2 * CAUSTIC_FOCAL * CAUSTIC_TAN_X
+    layer = f"""#usda 1.0
+(
+    subLayers = [@{CORNELL.as_posix()}@]
+)
+over "World"
+{{
+    def Camera "CausticCamera"
+    {{
+        token projection = "perspective"
+        float focalLength = {CAUSTIC_FOCAL}
+        float horizontalAperture = {horizontal}
+        float verticalAperture = {horizontal * h / w}
+        float fStop = 0
+        float2 clippingRange = (0.01, 100)
+        double3 xformOp:translate = {CAUSTIC_EYE}
+        float xformOp:rotateX = {CAUSTIC_PITCH}
+        uniform token[] xformOpOrder = ["xformOp:translate", "xformOp:rotateX"]
+    }}
+}}
+"""
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "cornell_caustic.usda"
+        path.write_text(layer)
+        yield path
+
+
+def render_caustic_view(scene, integrator, spp, seed, **params):
+    from gi.cli import render_scene
+    result, _, _ = render_scene(str(scene), integrator, params, spp, seed, resolution=CAUSTIC_RESOLUTION,
+                                camera="/World/CausticCamera")
+    return rgb(result.color)
+
+
+CAUSTIC_RADIUS = 0.2  # the caustic proper: the reference's radiance falls from 0.85 to 0.03 between r = 0.15 and 0.25
+
+
+def caustic_region(radius):
+    """Pixels of the caustic camera that see the floor within `radius` of where the sphere touches it,
+    directly, a pixel away from the sphere's silhouette and the image border."""
+    w, h = CAUSTIC_RESOLUTION
+    rays = view_rays(w, h, np.array(CAUSTIC_EYE), CAUSTIC_TAN_X, CAUSTIC_TAN_X * h / w, CAUSTIC_PITCH)
+    sphere, floor = first_hits(rays, np.array(CAUSTIC_EYE))
+    distance = np.nan_to_num(np.hypot(floor[..., 0] - CONTACT[0], floor[..., 2] - CONTACT[2]), nan=np.inf)
+    region = (distance < radius) & ~dilate(sphere | np.isnan(floor[..., 0]))
+    region[[0, -1], :] = region[:, [0, -1]] = False
+    return region
+
+
+PHOTON_INTEGRATORS = ("photonMapFinalGather", "photonMapIrradianceCache")
+
+
+@pytest.fixture(scope="module")
+def caustic_views(caustic_scene):
+    """The path tracer's caustic view as two independent 512-spp halves, and each photon integrator's
+    (default photon counts, 8 spp)."""
+    halves = [render_caustic_view(caustic_scene, "path", 512, seed) for seed in (11, 12)]
+    return halves, {name: render_caustic_view(caustic_scene, name, 8, 0) for name in PHOTON_INTEGRATORS}
+
+
+def energy_ratios(caustic_views, radius):
+    region = caustic_region(radius)
+    halves = [half[region].mean(0) for half in caustic_views[0]]
+    reference = (halves[0] + halves[1]) / 2
+    print(f"floor within {radius} of the contact point: {region.sum()} pixels, reference mean RGB "
+          f"{np.round(reference, 4)}, halves differ by {np.round(np.abs(halves[0] - halves[1]) / reference, 4)}")
+    assert region.sum() >= 50, region.sum()
+    assert (np.abs(halves[0] - halves[1]) < 0.03 * reference).all(), halves
+    assert reference[1] > 1.5 * reference[0], reference  # green: the glass's tint
+    ratios = {}
+    for integrator, image in caustic_views[1].items():
+        mean = image[region].mean(0)
+        ratios[integrator] = mean / reference
+        print(f"{integrator}: mean RGB {np.round(mean, 4)}, ratio to the reference {np.round(ratios[integrator], 3)}")
+    return ratios
+
+
+def test_caustic_carries_the_reference_energy(caustic_views):
+    """Mean radiance of the caustic under the glass sphere, per colour channel, within 10% of the
+    path tracer's (default photon counts); the reference's two independent halves agree within 3%."""
+    for integrator, ratio in energy_ratios(caustic_views, CAUSTIC_RADIUS).items():
+        assert (np.abs(ratio - 1) < 0.10).all(), (integrator, ratio)
+
+
+@pytest.mark.xfail(strict=True, reason="the photon integrators put 11-12% more light than the path tracer on the "
+                   "floor under the sphere (r < 0.4): the k-nearest caustic estimate spreads a halo around the "
+                   "caustic, and about +4.5% inside it does not shrink with 4x the caustic photons or a 0.05 "
+                   "gather radius")
+def test_floor_under_the_sphere_carries_the_reference_energy(caustic_views):
+    for integrator, ratio in energy_ratios(caustic_views, SPHERE_RADIUS).items():
+        assert (np.abs(ratio - 1) < 0.10).all(), (integrator, ratio)
