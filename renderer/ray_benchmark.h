@@ -1,5 +1,6 @@
 // Embree on its own: casts incoherent closest-hit rays (uniform origins in the scene's bounding
-// box, uniform directions) on all threads, as the baseline for the renderer's rays/s.
+// box, uniform directions, generated before timing starts) on all threads, as the baseline for
+// the renderer's rays/s.
 #pragma once
 #include <cstdint>
 
@@ -11,6 +12,7 @@ struct RayBenchmarkResult {
     uint64_t rays = 0;
     uint64_t hits = 0;
     double seconds = 0;
+    double cpuSeconds = 0;  // CPU time of the whole process over the timed casting
     double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
 };
 

@@ -443,6 +443,7 @@ void bindRendering(nb::module_& m) {
             return std::map<std::string, double>{{"rays", double(r.rays)},
                                                  {"hits", double(r.hits)},
                                                  {"seconds", r.seconds},
+                                                 {"cpu_seconds", r.cpuSeconds},
                                                  {"rays_per_second", r.raysPerSecond()}};
         },
         "scene"_a, "rays"_a, "seed"_a = 0, "threads"_a = 0);
