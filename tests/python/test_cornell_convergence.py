@@ -122,9 +122,9 @@ def test_irradiance_cache_error_falls_as_accuracy_tightens(reference):
     """The cache's error on the diffuse surfaces falls at each of three tighter accuracies.
 
     Measured on the pixels away from the glass sphere: the caustic under it is a sharp feature
-    that hemisphere-sampled records resolve neither at any accuracy (their caustic paths are
-    noisy and the records at least 1.5 pixels apart), and the error there stays at about 0.008
-    from accuracy 0.5 on; that part is the photon map's (issue 5, below). maxSpacing is the
+    that hemisphere-sampled records do not resolve at any accuracy (their caustic paths are noisy
+    and the records at least 1.5 pixels apart), so with it the whole image's indirect error stays
+    at about 0.008 from accuracy 0.5 on; caustics are the photon map's part (issue 5, below). maxSpacing is the
     image's width so that the accuracy alone sets the record radii (the default 10-pixel cap
     makes every accuracy up to 0.25 the same cache at 40x40), and 512 paths per record keep the
     records' noise below the interpolation error. Beyond accuracy 0.5 the cache's remaining
