@@ -363,7 +363,8 @@ private:
             std::vector<float> weights(w);
             double rowSum = 0;
             for (int x = 0; x < w; ++x) {
-                const float* t = image_->texel(x, y);
+                float t[4];
+                image_->texel(x, y, t);
                 float lum = luminance(Color(t[0], t[1], t[2]));
                 weights[x] = lum * sinTheta;
                 rowSum += weights[x];
@@ -378,7 +379,8 @@ private:
         for (int y = 0; y < h; ++y) {
             float sinTheta = std::sin((y + 0.5f) * kPi / h);
             for (int x = 0; x < w; ++x) {
-                const float* t = image_->texel(x, y);
+                float t[4];
+                image_->texel(x, y, t);
                 for (int c = 0; c < 3; ++c) avg[c] += t[c] * sinTheta;
                 wsum += sinTheta;
             }

@@ -36,37 +36,66 @@ bool wrapCoordinate(int& i, int n, int mode) {
 
 }  // namespace
 
+namespace {
+// Widens 1-4 channels to RGBA: grey to RGB, grey+alpha, extra channels dropped.
+template <typename T>
+void widenToRgba(const T* s, int nc, T opaque, T* d) {
+    d[0] = s[0];
+    d[1] = nc >= 3 ? s[1] : s[0];
+    d[2] = nc >= 3 ? s[2] : s[0];
+    d[3] = nc == 2 ? s[1] : (nc >= 4 ? s[3] : opaque);
+}
+}  // namespace
+
 std::shared_ptr<Image> Image::load(const std::string& path, const std::string& colorSpace, std::string& error) {
-    OIIO::ImageBuf buf(path);
-    if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
+    // Colour stays as stored (PNG's straight alpha): OIIO would premultiply it by default,
+    // darkening every partly transparent texel's colour.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    OIIO::ImageBuf buf(path, 0, 0, nullptr, &config);
+    if (!buf.init_spec(path, 0, 0)) {
+        error = buf.geterror();
+        if (error.empty()) error = "cannot read image";
+        return nullptr;
+    }
+    bool eightBit = buf.spec().format.basetype == OIIO::TypeDesc::UINT8;
+    if (!buf.read(0, 0, true, eightBit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT)) {
         error = buf.geterror();
         if (error.empty()) error = "cannot read image";
         return nullptr;
     }
     const OIIO::ImageSpec& spec = buf.spec();
     int w = spec.width, h = spec.height, nc = spec.nchannels;
-    std::vector<float> src(size_t(w) * h * nc);
-    buf.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, nc), OIIO::TypeDesc::FLOAT, src.data());
     // 'auto' treats 8-bit images as sRGB-encoded and float images as linear (UsdUVTexture's rule).
     bool isFloat = spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF;
     bool decodeSrgb = colorSpace == "sRGB" || (colorSpace != "raw" && !isFloat);
+    if (eightBit) {
+        std::vector<uint8_t> src(size_t(w) * h * nc), rgba(size_t(w) * h * 4);
+        buf.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, nc), OIIO::TypeDesc::UINT8, src.data());
+        for (size_t p = 0; p < size_t(w) * h; ++p) widenToRgba(&src[p * nc], nc, uint8_t(255), &rgba[p * 4]);
+        return fromBytes(w, h, std::move(rgba), decodeSrgb);
+    }
+    std::vector<float> src(size_t(w) * h * nc);
+    buf.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, nc), OIIO::TypeDesc::FLOAT, src.data());
     std::vector<float> rgba(size_t(w) * h * 4);
     for (size_t p = 0; p < size_t(w) * h; ++p) {
-        const float* s = &src[p * nc];
-        float r = s[0], g = nc >= 3 ? s[1] : s[0], b = nc >= 3 ? s[2] : s[0];
-        float a = nc == 2 ? s[1] : (nc >= 4 ? s[3] : 1.0f);
-        if (decodeSrgb) {
-            r = srgbToLinear(r);
-            g = srgbToLinear(g);
-            b = srgbToLinear(b);
-        }
         float* d = &rgba[p * 4];
-        d[0] = std::isfinite(r) ? r : 0;
-        d[1] = std::isfinite(g) ? g : 0;
-        d[2] = std::isfinite(b) ? b : 0;
-        d[3] = std::isfinite(a) ? a : 1;
+        widenToRgba(&src[p * nc], nc, 1.0f, d);
+        for (int c = 0; c < 4; ++c) {
+            if (decodeSrgb && c < 3) d[c] = srgbToLinear(d[c]);
+            if (!std::isfinite(d[c])) d[c] = c < 3 ? 0.0f : 1.0f;
+        }
     }
     return fromPixels(w, h, std::move(rgba));
+}
+
+std::shared_ptr<Image> Image::fromBytes(int width, int height, std::vector<uint8_t> rgba, bool srgb) {
+    auto image = std::make_shared<Image>();
+    image->width_ = width;
+    image->height_ = height;
+    image->bytes_ = std::move(rgba);
+    for (int v = 0; v < 256; ++v) image->decode_[v] = srgb ? srgbToLinear(v / 255.0f) : v / 255.0f;
+    return image;
 }
 
 std::shared_ptr<Image> Image::fromPixels(int width, int height, std::vector<float> rgba) {
@@ -91,7 +120,8 @@ void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4]) const {
             int xi = x0 + dx, yi = y0 + dy;
             float w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
             if (!wrapCoordinate(xi, width_, wrapS) || !wrapCoordinate(yi, height_, wrapT)) continue;
-            const float* t = texel(xi, yi);
+            float t[4];
+            texel(xi, yi, t);
             for (int c = 0; c < 4; ++c) out[c] += w * t[c];
         }
 }
