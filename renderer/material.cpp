@@ -21,6 +21,7 @@ Material::Material(const MaterialDesc& desc, const TextureBinder& bindTexture) :
     bind(metallicTex_, desc.metallicTexture, "metallic");
     bind(roughnessTex_, desc.roughnessTexture, "roughness");
     bind(opacity_, desc.opacityTexture, "opacity");
+    bind(normalTex_, desc.normalTexture, "normal");
     // NaN, Inf and negative inputs are replaced (and named in repairedInputs(), so the scene can
     // warn); values merely outside [0, 1] are clamped silently, as UsdPreviewSurface says.
     auto color = [&](Color c, const char* input) {
@@ -59,6 +60,14 @@ Material::Material(const MaterialDesc& desc, const TextureBinder& bindTexture) :
     constantBsdf_ = !diffuseTex_.valid() && !specularTex_.valid() && !metallicTex_.valid() && !roughnessTex_.valid() &&
                     !(transparentMode_ && opacity_.valid());
     if (constantBsdf_) bsdf_ = evalBsdf(Vec2(0.0f, 0.0f));
+}
+
+Vec3 Material::tangentNormal(Vec2 uv) const {
+    Vec3 n = normalTex_.evalColor(uv);
+    // A texel that is not a usable direction (NaN, zero, or pointing into the surface) leaves
+    // the surface normal as it is.
+    if (!isFinite(n) || !(n.z > 1e-3f)) return Vec3(0, 0, 1);
+    return normalize(n);
 }
 
 Color Material::emission(Vec2 uv) const {

@@ -38,6 +38,10 @@ public:
     Bsdf bsdf(Vec2 uv) const;
     Color emission(Vec2 uv) const;
     bool isEmissive() const { return emissive_; }
+    // UsdPreviewSurface's `normal` input: a tangent-space normal (+z = the surface normal; the
+    // texture's scale and bias map its texels to [-1, 1], as USD authors them).
+    bool hasNormalMap() const { return normalTex_.valid(); }
+    Vec3 tangentNormal(Vec2 uv) const;
     // Stochastic presence (opacityMode "presence" or an opacity threshold): probability that a
     // ray stops here. 1 for solid surfaces.
     float presence(Vec2 uv) const;
@@ -53,7 +57,7 @@ private:
     Bsdf evalBsdf(Vec2 uv) const;
 
     MaterialDesc desc_;
-    Texture diffuseTex_, emissiveTex_, specularTex_, metallicTex_, roughnessTex_, opacity_;
+    Texture diffuseTex_, emissiveTex_, specularTex_, metallicTex_, roughnessTex_, opacity_, normalTex_;
     bool emissive_ = false;
     bool hasPresence_ = false;
     bool specular_ = false;

@@ -15,6 +15,25 @@ void embreeErrorHandler(void* userPtr, RTCError code, const char* message) {
                                              (message ? message : ""));
 }
 
+// Perturbs the shading normal n by a tangent-space normal map. The tangent frame follows the
+// triangle's texture parametrisation (T along +u, B along +v, MikkTSpace's convention for
+// OpenGL-style maps), made orthonormal around n. Triangles without a usable parametrisation keep n.
+Vec3 applyNormalMap(const Material& material, Vec2 uv, Vec3 n, Vec3 e1, Vec3 e2, Vec2 duv1, Vec2 duv2) {
+    float det = duv1.x * duv2.y - duv1.y * duv2.x;
+    if (!(std::fabs(det) > 1e-20f)) return n;
+    float r = 1 / det;
+    Vec3 dpdu = (e1 * duv2.y - e2 * duv1.y) * r;
+    Vec3 dpdv = (e2 * duv1.x - e1 * duv2.x) * r;
+    Vec3 t = dpdu - n * dot(n, dpdu);
+    if (!(lengthSquared(t) > 1e-30f) || !isFinite(t)) return n;
+    t = normalize(t);
+    Vec3 b = cross(n, t);
+    if (dot(b, dpdv) < 0) b = -b;  // mirrored uvs
+    Vec3 m = material.tangentNormal(uv);
+    Vec3 perturbed = t * m.x + b * m.y + n * m.z;
+    return lengthSquared(perturbed) > 0 && isFinite(perturbed) ? normalize(perturbed) : n;
+}
+
 bool isSimilarity(const Mat4& m) {
     Vec3 a = m.vector(Vec3(1, 0, 0)), b = m.vector(Vec3(0, 1, 0)), c = m.vector(Vec3(0, 0, 1));
     float la = length(a), lb = length(b), lc = length(c);
@@ -430,7 +449,12 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const RTCRayHit& rh) c
             Vec3 n = s.normals[i0] * b0 + s.normals[i1] * b1 + s.normals[i2] * b2;
             if (lengthSquared(n) > 1e-12f) ns = normalize(n);
         }
-        if (!s.uvs.empty()) si.uv = s.uvs[i0] * b0 + s.uvs[i1] * b1 + s.uvs[i2] * b2;
+        if (!s.uvs.empty()) {
+            si.uv = s.uvs[i0] * b0 + s.uvs[i1] * b1 + s.uvs[i2] * b2;
+            if (si.material->hasNormalMap())
+                ns = applyNormalMap(*si.material, si.uv, ns, p1 - p0, p2 - p0, s.uvs[i1] - s.uvs[i0],
+                                    s.uvs[i2] - s.uvs[i0]);
+        }
         if (si.material->isEmissive()) {
             if (!inst && s.lightOffset >= 0) si.emissiveLight = s.lightOffset + int(h.primID);
             if (inst && inst->lightOffset >= 0) {

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "renderer/texture.h"
+#include "scenes.h"
 
 using namespace gi;
 
@@ -85,4 +86,69 @@ TEST(Texture, FloatImagesStayLinearAndBilinearBlends) {
     image->lookup(0.5f, 0.5f, kWrapClamp, kWrapClamp, t);  // half-way between the two texels
     EXPECT_FLOAT_EQ(t[0], 0.5f);
     EXPECT_FLOAT_EQ(t[1], 1.0f);
+}
+
+namespace {
+
+// A floor at y = 0 whose u runs along +x and v along -z, under a delta distant light whose
+// direction towards the light is +y tilted by `lightTilt` radians towards `lightAxis` (x or -z);
+// with a constant tangent-space normal map `mapNormal` (none if zero). Returns the floor's value.
+double normalMappedFloor(Vec3 mapNormal, float lightTilt, Vec3 lightAxis) {
+    Scene scene;
+    MaterialDesc m = test::lambert(Color(0.5f));
+    if (lengthSquared(mapNormal) > 0) {
+        std::vector<float> texel = {mapNormal.x, mapNormal.y, mapNormal.z, 1, mapNormal.x, mapNormal.y, mapNormal.z, 1};
+        m.normalTexture.file = writeImage("gi_normal_map.exr", 4, texel, OIIO::TypeDesc::FLOAT);
+        m.normalTexture.sourceColorSpace = "raw";
+    }
+    int material = scene.addMaterial(m);
+    scene.addMesh("/Floor", {{-5, 0, 5}, {5, 0, 5}, {5, 0, -5}, {-5, 0, -5}}, {0, 1, 2, 0, 2, 3}, {},
+                  {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, material, nullptr, true, -1);
+    LightDesc light;
+    light.name = "/Sun";
+    light.kind = "distant";
+    light.angle = 0;
+    // Rows: where local x, y, z go; the light shines along local -z, so local z = towards it.
+    Vec3 toLight = Vec3(0, 1, 0) * std::cos(lightTilt) + lightAxis * std::sin(lightTilt);
+    Vec3 helper = std::fabs(toLight.z) < 0.9f ? Vec3(0, 0, 1) : Vec3(1, 0, 0);
+    Vec3 x = normalize(cross(helper, toLight));
+    Vec3 y = cross(toLight, x);
+    for (int c = 0; c < 3; ++c) {
+        light.transform.m[0][c] = x[c];
+        light.transform.m[1][c] = y[c];
+        light.transform.m[2][c] = toLight[c];
+    }
+    scene.addLight(light);
+    scene.setCamera(test::lookingDown({0, 0.05f, 0}, true, 0.01f));
+    return test::channelMean(test::renderImage(scene, "direct", 4, 4), 1);
+}
+
+}  // namespace
+
+// UsdPreviewSurface's normal input: a tangent-space map tilts the shading normal along the
+// surface's own u (tangent) and v (bitangent) directions.
+TEST(NormalMap, TiltsTheShadingNormalAlongUAndV) {
+    const float tilt = 30 * kPi / 180;
+    const Vec3 alongX(1, 0, 0), alongMinusZ(0, 0, -1);
+    double flat = normalMappedFloor(Vec3(0.0f), 0, alongX);
+    ASSERT_GT(flat, 0);
+    // An untilted map changes nothing.
+    EXPECT_NEAR(normalMappedFloor(Vec3(0, 0, 1), 0, alongX) / flat, 1.0, 1e-4);
+    Vec3 towardsU(std::sin(tilt), 0, std::cos(tilt)), towardsV(0, std::sin(tilt), std::cos(tilt));
+    // Light from straight above: cos 30 whichever way the normal leans.
+    EXPECT_NEAR(normalMappedFloor(towardsU, 0, alongX) / flat, std::cos(tilt), 1e-3);
+    // Leaning towards +u (= +x) faces a light tilted towards +x (cos 0), and turns 60 degrees
+    // from one tilted towards -x.
+    EXPECT_NEAR(normalMappedFloor(towardsU, tilt, alongX) / flat, 1.0, 1e-3);
+    EXPECT_NEAR(normalMappedFloor(towardsU, -tilt, alongX) / flat, std::cos(2 * tilt), 1e-3);
+    // Leaning towards +v (= -z) likewise.
+    EXPECT_NEAR(normalMappedFloor(towardsV, tilt, alongMinusZ) / flat, 1.0, 1e-3);
+    EXPECT_NEAR(normalMappedFloor(towardsV, -tilt, alongMinusZ) / flat, std::cos(2 * tilt), 1e-3);
+}
+
+// Texels that are no direction (zero, NaN, into the surface) leave the normal alone.
+TEST(NormalMap, UnusableTexelsKeepTheSurfaceNormal) {
+    double flat = normalMappedFloor(Vec3(0.0f), 0, Vec3(1, 0, 0));
+    EXPECT_NEAR(normalMappedFloor(Vec3(0.5f, 0, -1), 0, Vec3(1, 0, 0)) / flat, 1.0, 1e-4);
+    EXPECT_NEAR(normalMappedFloor(Vec3(std::nanf(""), 0, 1), 0, Vec3(1, 0, 0)) / flat, 1.0, 1e-4);
 }
