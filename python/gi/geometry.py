@@ -19,13 +19,25 @@ class Triangles:
     indices: np.ndarray               # (M, 3) uint32
     normals: Optional[np.ndarray] = None   # (N, 3) float32
     uvs: Optional[np.ndarray] = None       # (N, 2) float32
+    faces: Optional[np.ndarray] = None     # (M,) int64: the authored face each triangle came from
 
     def contiguous(self):
         """nanobind takes C-contiguous arrays of exactly these dtypes."""
         def fix(a, dtype):
             return None if a is None else np.ascontiguousarray(a, dtype=dtype)
         return Triangles(fix(self.positions, np.float32), fix(self.indices, np.uint32),
-                         fix(self.normals, np.float32), fix(self.uvs, np.float32))
+                         fix(self.normals, np.float32), fix(self.uvs, np.float32), fix(self.faces, np.int64))
+
+    def select(self, which):
+        """The triangles `which` selects (a boolean mask or triangle numbers), over only the vertices
+        they use (normals and uvs are per vertex, so they follow the vertices)."""
+        indices = np.asarray(self.indices)[which]
+        used, compact = np.unique(indices, return_inverse=True)
+
+        def take(a):
+            return None if a is None else a[used]
+        return Triangles(self.positions[used], compact.reshape(-1, 3), take(self.normals), take(self.uvs),
+                         None if self.faces is None else self.faces[which]).contiguous()
 
 
 # -- polygon meshes: topology ---------------------------------------------------------------------
@@ -193,7 +205,8 @@ def split_corners(points, vertex_index, primvars):
 
 
 def mesh_triangles(mesh: UsdGeom.Mesh, time, warn, uv_names=()) -> Optional[Triangles]:
-    """The mesh's valid faces as triangles, or None (with a warning) if none remain."""
+    """The mesh's valid faces as triangles, or None (with a warning) if none remain; `faces` holds
+    the authored face index of each triangle (what GeomSubset indices refer to)."""
     points = np.asarray(mesh.GetPointsAttr().Get(time) or [], dtype=np.float64).reshape(-1, 3)
     counts = np.asarray(mesh.GetFaceVertexCountsAttr().Get(time) or [], dtype=np.int64)
     indices = np.asarray(mesh.GetFaceVertexIndicesAttr().Get(time) or [], dtype=np.int64)
@@ -217,6 +230,7 @@ def mesh_triangles(mesh: UsdGeom.Mesh, time, warn, uv_names=()) -> Optional[Tria
         triangles = split_corners(points, vertex_index, primvars)
     else:
         triangles = share_points(points, vertex_index, primvars)
+    triangles.faces = face_of_triangle
     return triangles.contiguous()
 
 
