@@ -24,6 +24,15 @@ POINT_INSTANCER_LIGHTS = "lights in point-instancer prototypes are not supported
 
 
 @dataclass
+class FaceSubset:
+    """A materialBind GeomSubset: the authored faces it owns and the material it binds."""
+    path: str
+    prim: object
+    faces: np.ndarray     # sorted authored face indices
+    material: int = -1
+
+
+@dataclass
 class LoadedScene:
     scene: object
     resolution: tuple                 # (width, height)
@@ -146,24 +155,119 @@ class StageLoader:
             self.counts["spheres"] += 1
 
     def add_triangles(self, prim, transform, prototype):
-        """A mesh, or a tessellated cube / cylinder / cone / capsule / plane."""
+        """A mesh, or a tessellated cube / cylinder / cone / capsule / plane. A mesh's materialBind
+        GeomSubsets become pieces of their own with their own materials (as Hydra splits them)."""
         name = str(prim.GetPath())
         material, uv_names = self.materials.bind(prim)
         warn = lambda message: self.warn(name, message)  # noqa: E731  (binds the prim's name)
+        subsets = []
         if prim.IsA(UsdGeom.Mesh):
-            if UsdShade.MaterialBindingAPI(prim).GetMaterialBindSubsets():
-                warn("per-face materials (GeomSubsets) are not supported; the mesh's own material is used")
-            triangles = mesh_triangles(UsdGeom.Mesh(prim), self.time, warn, uv_names)
+            mesh = UsdGeom.Mesh(prim)
+            subsets = self.material_subsets(mesh)
+            subsets, uv_names = self.subset_materials(subsets, material, uv_names)
+            triangles = mesh_triangles(mesh, self.time, warn, uv_names)
         else:
             triangles = implicit_triangles(prim, self.time, warn)
         if triangles is None:
             return
         double_sided = bool(UsdGeom.Gprim(prim).GetDoubleSidedAttr().Get(self.time))
-        mesh_id = self.scene.add_mesh(name, triangles.positions, triangles.indices, triangles.normals,
-                                      triangles.uvs, material, transform, double_sided, prototype)
-        if mesh_id >= 0:
-            self.counts["meshes"] += 1
-            self.counts["triangles"] += len(triangles.indices)
+        added = 0
+        for piece_name, piece_material, piece in self.pieces(name, material, triangles, subsets):
+            mesh_id = self.scene.add_mesh(piece_name, piece.positions, piece.indices, piece.normals,
+                                          piece.uvs, piece_material, transform, double_sided, prototype)
+            if mesh_id >= 0:
+                added += 1
+                self.counts["triangles"] += len(piece.indices)
+        if added:
+            self.counts["meshes"] += 1  # a mesh prim, however many pieces its subsets made
+
+    @staticmethod
+    def pieces(name, material, triangles, subsets):
+        """(piece name, material, Triangles) for each non-empty piece: the faces in no subset under
+        the mesh's name and material, then each subset's faces under its own path and material."""
+        if not subsets:
+            return [(name, material, triangles)]
+        piece_of_face = np.zeros(int(triangles.faces.max()) + 1, np.int64)
+        for piece, subset in enumerate(subsets, start=1):
+            faces = subset.faces[subset.faces < len(piece_of_face)]
+            piece_of_face[faces] = piece
+        piece_of_triangle = piece_of_face[triangles.faces]
+        order = np.argsort(piece_of_triangle, kind="stable")  # triangles grouped by piece, in mesh order
+        bounds = np.searchsorted(piece_of_triangle[order], np.arange(len(subsets) + 2))
+        out = []
+        for piece, (piece_name, piece_material) in enumerate(
+                [(name, material)] + [(subset.path, subset.material) for subset in subsets]):
+            which = order[bounds[piece]:bounds[piece + 1]]
+            if len(which) == len(order):
+                out.append((piece_name, piece_material, triangles))
+            elif len(which):
+                out.append((piece_name, piece_material, triangles.select(which)))
+        return out
+
+    def material_subsets(self, mesh):
+        """The mesh's materialBind face subsets (authored order), each with the faces it owns:
+        valid indices only, a face claimed by several going to the first. Warns, naming the
+        subset, about empty subsets, out-of-range or repeated indices and overlaps."""
+        binding = UsdShade.MaterialBindingAPI(mesh.GetPrim())
+        subsets = binding.GetMaterialBindSubsets()
+        if not subsets:
+            return []
+        mesh_name = str(mesh.GetPath())
+        face_count = len(mesh.GetFaceVertexCountsAttr().Get(self.time) or [])
+        family_type = str(binding.GetMaterialBindSubsetsFamilyType())
+        owner = np.full(face_count, -1, np.int64)   # face -> index into `out`, -1 = the mesh's own
+        out = []
+        for subset in subsets:
+            path = str(subset.GetPath())
+            element_type = subset.GetElementTypeAttr().Get(self.time)
+            if element_type != UsdGeom.Tokens.face:
+                self.warn(path, f"materialBind subset of element type '{element_type}' is not a face set; ignored")
+                continue
+            try:
+                indices = np.asarray(subset.GetIndicesAttr().Get(self.time) or [], np.int64).reshape(-1)
+            except UNREADABLE as error:
+                self.warn(path, f"indices could not be read ({error_text(error)}); subset ignored")
+                continue
+            if len(indices) == 0:
+                self.warn(path, f"materialBind subset of {mesh_name} has no face indices; ignored")
+                continue
+            in_range = (indices >= 0) & (indices < face_count)
+            if not in_range.all():
+                bad = indices[~in_range]
+                self.warn(path, f"{len(bad)} face indices out of range (e.g. {int(bad[0])}; {mesh_name} has "
+                                f"{face_count} faces, valid: 0..{face_count - 1}); those indices are ignored")
+            faces, counts = np.unique(indices[in_range], return_counts=True)
+            if (counts > 1).any():
+                self.warn(path, f"{int((counts > 1).sum())} faces listed more than once (e.g. "
+                                f"{int(faces[counts > 1][0])}); each is used once")
+            claimed = owner[faces] >= 0
+            if claimed.any():
+                for earlier in np.unique(owner[faces[claimed]]):
+                    taken = faces[claimed & (owner[faces] == earlier)]
+                    self.warn(path, f"{len(taken)} faces (e.g. {int(taken[0])}) are also in {out[earlier].path}, but "
+                                    f"materialBind subsets must not overlap (family type '{family_type}'); "
+                                    f"they keep {out[earlier].path}'s material")
+                faces = faces[~claimed]
+            if len(faces) == 0:  # nothing left of it (said above)
+                continue
+            owner[faces] = len(out)
+            out.append(FaceSubset(path, subset.GetPrim(), faces))
+        if family_type == UsdGeom.Tokens.partition and (owner < 0).any():
+            self.warn(mesh_name, f"materialBind subsets are a 'partition' but {int((owner < 0).sum())} faces are "
+                                 f"in none of them; those keep the mesh's material")
+        return out
+
+    def subset_materials(self, subsets, mesh_material, uv_names):
+        """Binds each subset's material (resolved on the subset prim as on any gprim: its own binding,
+        else the mesh's); a subset with no usable material keeps the mesh's. Returns the subsets and
+        the uv primvar names every piece's material reads (the mesh's first)."""
+        names = list(uv_names)
+        for subset in subsets:
+            subset.material, subset_uv_names = self.materials.bind(subset.prim)
+            if subset.material < 0:
+                subset.material = mesh_material
+            names += [n for n in subset_uv_names if n not in names]
+        return subsets, tuple(names)
 
     # -- instancing ------------------------------------------------------------------------------
     def prototype_for(self, root, holds_lights_warning=""):
