@@ -53,8 +53,10 @@ std::vector<int> FacePieces(HdMeshTopology const& topology, HdGiMeshPieces& out)
         if (subset.type != HdGeomSubset::TypeFaceSet) continue;
         int index = int(out.materials.size());
         out.materials.push_back(subset.materialId);
+        // A face claimed by several subsets (invalid for a materialBind family) goes to the
+        // first, as in the gi loader, so both front ends render such a file alike.
         for (int f : subset.indices)
-            if (f >= 0 && size_t(f) < faces) piece[size_t(f)] = index;
+            if (f >= 0 && size_t(f) < faces && piece[size_t(f)] == 0) piece[size_t(f)] = index;
     }
     return piece;
 }
