@@ -83,7 +83,9 @@ int Scene::defaultMaterial() {
 }
 
 int Scene::addPrototype(const std::string& name) {
-    prototypes_.push_back(Prototype{name});
+    Prototype prototype;
+    prototype.name = name;
+    prototypes_.push_back(std::move(prototype));
     return int(prototypes_.size()) - 1;
 }
 
@@ -238,8 +240,11 @@ Texture Scene::loadTexture(const TextureDesc& desc, const std::string& materialN
     if (it == imageCache_.end()) {
         std::string error;
         std::shared_ptr<Image> image;
-        if (!std::filesystem::exists(desc.file)) error = "file not found";
+        bool read = true;
+        if (sharedImages_) image = sharedImages_->get(desc.file, desc.sourceColorSpace, error, &read);
+        else if (!std::filesystem::exists(desc.file)) error = "file not found";
         else image = Image::load(desc.file, desc.sourceColorSpace, error);
+        if (image && read) stats_.texturesRead++;
         if (!image)
             warn("material " + materialName + ": " + input + " texture " + desc.file + ": " + error +
                  "; using the constant value");

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "image_cache.h"
 #include "light.h"
 #include "material.h"
 
@@ -90,9 +91,13 @@ public:
     struct Stats {
         size_t triangles = 0, spheres = 0, instances = 0, prototypes = 0, lights = 0, emissiveTriangles = 0;
         size_t textureBytes = 0, textures = 0;
+        size_t texturesRead = 0;  // of `textures`, read from disk (the rest came from a shared ImageCache)
         double buildSeconds = 0;
     };
     const Stats& stats() const { return stats_; }
+    // Textures come from (and go to) `images`, shared with other scenes, instead of this scene's
+    // own reads. Call before commit().
+    void shareImages(std::shared_ptr<ImageCache> images) { sharedImages_ = std::move(images); }
     RTCScene embreeScene() const { return top_; }
     RTCDevice embreeDevice() const { return device_; }
 
@@ -144,7 +149,8 @@ private:
     std::vector<int> topGeomToShape_;  // geomID -> shape, or -(instance+1) for instances
     std::vector<MaterialDesc> materialDescs_;
     std::vector<std::unique_ptr<Material>> materials_;
-    std::map<std::string, std::shared_ptr<Image>> imageCache_;
+    std::map<std::string, std::shared_ptr<Image>> imageCache_;  // this scene's textures, by file and colour space
+    std::shared_ptr<ImageCache> sharedImages_;
     std::vector<LightDesc> lightDescs_;
     std::vector<std::unique_ptr<Light>> lights_;
     std::vector<int> infiniteLights_;

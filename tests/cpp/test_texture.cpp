@@ -152,3 +152,53 @@ TEST(NormalMap, UnusableTexelsKeepTheSurfaceNormal) {
     EXPECT_NEAR(normalMappedFloor(Vec3(0.5f, 0, -1), 0, Vec3(1, 0, 0)) / flat, 1.0, 1e-4);
     EXPECT_NEAR(normalMappedFloor(Vec3(std::nanf(""), 0, 1), 0, Vec3(1, 0, 0)) / flat, 1.0, 1e-4);
 }
+
+namespace {
+
+// A scene with one textured quad whose texture is `file`, committed.
+std::unique_ptr<Scene> texturedScene(const std::string& file, std::shared_ptr<ImageCache> images) {
+    auto scene = std::make_unique<Scene>();
+    if (images) scene->shareImages(images);
+    MaterialDesc m = test::lambert(Color(0.5f));
+    m.diffuseColorTexture.file = file;
+    int material = scene->addMaterial(m);
+    test::addQuad(*scene, "/Quad", {0, 0, 0}, {1, 0, 0}, {1, 0, -1}, {0, 0, -1}, material);
+    scene->commit();
+    return scene;
+}
+
+}  // namespace
+
+// Scenes rebuilt one after another (a Hydra session on every edit) share the images they hold:
+// a file is read again only when it changed on disk or no scene holds it any more.
+TEST(ImageCache, RebuiltScenesReadATextureOnceWhileItIsUnchanged) {
+    std::string file = writeImage("gi_shared_texture.png", 3, std::vector<uint8_t>{10, 20, 30}, OIIO::TypeDesc::UINT8);
+    auto images = std::make_shared<ImageCache>();
+    auto first = texturedScene(file, images);
+    EXPECT_EQ(first->stats().textures, 1u);
+    EXPECT_EQ(first->stats().texturesRead, 1u);
+    auto second = texturedScene(file, images);  // the first still lives, as during a rebuild
+    EXPECT_EQ(second->stats().textures, 1u);
+    EXPECT_EQ(second->stats().texturesRead, 0u);
+    // Without a shared cache every scene reads its own.
+    EXPECT_EQ(texturedScene(file, nullptr)->stats().texturesRead, 1u);
+    // A file rewritten on disk is read again.
+    std::filesystem::last_write_time(file, std::filesystem::last_write_time(file) + std::chrono::seconds(5));
+    auto third = texturedScene(file, images);
+    EXPECT_EQ(third->stats().texturesRead, 1u);
+    // Once no scene holds it, the cache lets it go (no growth over a long session).
+    first.reset();
+    second.reset();
+    third.reset();
+    EXPECT_EQ(texturedScene(file, images)->stats().texturesRead, 1u);
+    // A missing file is a warning, and is looked for again next time.
+    std::string missing = (std::filesystem::temp_directory_path() / "gi_not_there.png").string();
+    std::filesystem::remove(missing);
+    auto without = texturedScene(missing, images);
+    EXPECT_EQ(without->stats().textures, 0u);
+    ASSERT_FALSE(without->warnings().empty());
+    EXPECT_NE(without->warnings().front().find("gi_not_there.png"), std::string::npos);
+    std::filesystem::copy_file(file, missing);
+    EXPECT_EQ(texturedScene(missing, images)->stats().texturesRead, 1u);
+    std::filesystem::remove(missing);
+}
