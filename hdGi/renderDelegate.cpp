@@ -74,6 +74,10 @@ VtDictionary HdGiRenderDelegate::GetRenderStats() const {
     stats["rays"] = double(s.rays);
     stats["converged"] = s.converged;
     stats["lastTileTime"] = s.lastTileTime;
+    // Of the textures the current scene binds, how many its build read from disk (an edit
+    // rebuilds the scene; unchanged files come from the session's image cache).
+    stats["textures"] = s.textures;
+    stats["texturesRead"] = s.texturesRead;
     // usdview's HUD shows this key.
     stats["percentDone"] = s.targetSamples > 0 ? 100.0 * s.samples / s.targetSamples : 0.0;
     return stats;

@@ -54,6 +54,8 @@ void HdGiRenderSession::Run() {
         _sceneDomeVisible = job.domeLightCameraVisibility;
         stats.sceneBuildSeconds = SecondsSince(buildStart);
     }
+    stats.textures = int(_scene->stats().textures);
+    stats.texturesRead = int(_scene->stats().texturesRead);
 
     gi::RenderSettings settings = job.settings;
     settings.width = job.dataWindow.GetWidth();

@@ -29,6 +29,7 @@ struct HdGiRenderJob {
 struct HdGiSessionStats {
     double sceneBuildSeconds = 0, firstPixelSeconds = 0, renderSeconds = 0;
     double lastTileTime = 0;  // steady_clock seconds: when the renderer last finished a tile
+    int textures = 0, texturesRead = 0;  // bound by the last scene build; of them read from disk
     int samples = 0, targetSamples = 0;
     uint64_t rays = 0;
     bool converged = false;

@@ -115,6 +115,7 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         materials = _materials;
     }
     auto scene = std::make_unique<gi::Scene>();
+    scene->shareImages(_images);
     MaterialBinder binder(*scene, materials);
     HdGiIdMap map;
     for (auto const& g : geometry) {

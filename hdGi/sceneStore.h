@@ -68,6 +68,8 @@ private:
     std::map<SdfPath, std::shared_ptr<const HdGiGeometry>> _geometry;
     std::map<SdfPath, std::shared_ptr<const gi::LightDesc>> _lights;
     std::map<SdfPath, std::shared_ptr<const gi::MaterialDesc>> _materials;
+    // Textures outlive the scene rebuilt on every edit: an unchanged file is read once.
+    std::shared_ptr<gi::ImageCache> _images = std::make_shared<gi::ImageCache>();
 };
 
 gi::Mat4 HdGiToMat4(GfMatrix4d const& m);

@@ -32,3 +32,46 @@ def test_edits_in_one_session(tmp_path):
     assert recolored[..., 0].mean() < images["readded"][..., 0].mean() * 0.8
     # Only the rect light lights the box: hiding it leaves black.
     assert images["light_hidden"].max() < 1e-6
+
+
+def test_an_edit_reads_no_texture_again(tmp_path):
+    """A scene edit rebuilds the renderer's scene; textures whose files did not change come from
+    the session's image cache instead of being read again (Sponza's would take seconds)."""
+    import json
+
+    import matplotlib.image
+
+    matplotlib.image.imsave(tmp_path / "wall.png", np.linspace(0, 1, 48).reshape(4, 4, 3))
+    layer = tmp_path / "textured_cornell.usda"
+    layer.write_text(f"""#usda 1.0
+(
+    subLayers = [@{CORNELL}@]
+)
+over "World"
+{{
+    over "Looks"
+    {{
+        over "White"
+        {{
+            over "Surface"
+            {{
+                color3f inputs:diffuseColor.connect = </World/Looks/White/Texture.outputs:rgb>
+            }}
+            def Shader "Texture"
+            {{
+                uniform token info:id = "UsdUVTexture"
+                asset inputs:file = @./wall.png@
+                float3 outputs:rgb
+            }}
+        }}
+    }}
+}}
+""")
+    script = REPO / "tests/hydra/scripts/record_stats.py"
+    result = run_openusd([openusd_python(), str(script), str(layer), "32", "direct", "2", "0", "light"])
+    assert not hdgi_errors(result.stdout + result.stderr), result.stderr
+    report = json.loads(result.stdout.strip().splitlines()[-1])
+    before, after = report["stats"], report["stats_after_edit"]
+    assert before["textures"] == 1 and before["texturesRead"] == 1, before
+    assert after["textures"] == 1 and after["texturesRead"] == 0, after
+    assert after["sceneBuildSeconds"] > 0, after  # the edit did rebuild the scene

@@ -2,7 +2,9 @@
 usdrecord's FrameRecorder sets it up (no GPU, scene camera, framing, no camera light), until
 converged, and prints one JSON object: stage open time, the time of the first Render call (Hydra
 sync), hdGi's render stats (scene build, first pixel) and the total wall time.
-    record_stats.py SCENE WIDTH INTEGRATOR SAMPLES [SEED]"""
+With EDIT = "light", every light's intensity is then doubled and the render repeated (a scene
+rebuild in the same session); its stats are printed as "stats_after_edit".
+    record_stats.py SCENE WIDTH INTEGRATOR SAMPLES [SEED] [EDIT]"""
 import json
 import sys
 import time
@@ -12,6 +14,7 @@ from pxr import CameraUtil, Gf, Usd, UsdGeom, UsdImagingGL, UsdRender
 total = time.perf_counter()
 scene, width, integrator, samples = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 seed = int(sys.argv[5]) if len(sys.argv) > 5 else 0
+edit = sys.argv[6] if len(sys.argv) > 6 else ""
 start = time.perf_counter()
 stage = Usd.Stage.Open(scene)
 open_seconds = time.perf_counter() - start
@@ -40,14 +43,28 @@ params = UsdImagingGL.RenderParams()
 params.frame = Usd.TimeCode.Default()
 params.colorCorrectionMode = "disabled"
 
+
+
+def render_until_converged():
+    engine.Render(stage.GetPseudoRoot(), params)
+    while not engine.IsConverged():
+        time.sleep(0.01)
+        engine.Render(stage.GetPseudoRoot(), params)
+    return {k: v for k, v in dict(engine.GetRenderStats()).items()}
+
+
 start = time.perf_counter()
 engine.Render(stage.GetPseudoRoot(), params)
 first_render_call = time.perf_counter() - start
-while not engine.IsConverged():
-    time.sleep(0.01)
-    engine.Render(stage.GetPseudoRoot(), params)
+stats = render_until_converged()
 render_seconds = time.perf_counter() - start
-stats = {k: v for k, v in dict(engine.GetRenderStats()).items()}
-print(json.dumps({"scene": scene, "width": width, "height": height, "open_seconds": open_seconds,
-                  "sync_seconds": first_render_call, "render_seconds": render_seconds,
-                  "wall_seconds": time.perf_counter() - total, "stats": stats}, default=str))
+report = {"scene": scene, "width": width, "height": height, "open_seconds": open_seconds,
+          "sync_seconds": first_render_call, "render_seconds": render_seconds, "stats": stats}
+if edit == "light":
+    for prim in stage.Traverse():
+        intensity = prim.GetAttribute("inputs:intensity")
+        if intensity and intensity.HasAuthoredValue():
+            intensity.Set(2 * intensity.Get())
+    report["stats_after_edit"] = render_until_converged()
+report["wall_seconds"] = time.perf_counter() - total
+print(json.dumps(report, default=str))
