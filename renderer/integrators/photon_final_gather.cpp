@@ -24,7 +24,7 @@ Color PhotonMapFinalGatherIntegrator::indirect(const Scene& scene, const Shading
     const int k = settings_.photons.gatherPhotons;
     Color L(0.0f);
     if (!maps_.caustic.empty()) {
-        L += maps_.caustic.radiance(sp, scene, k, maps_.gatherRadius).value;
+        L += maps_.caustic.radiance(sp, scene, k, maps_.gatherRadius, kCausticConeFilter).value;
         lookups_.fetch_add(1, std::memory_order_relaxed);
     }
     const int samples = settings_.finalGatherSamples;

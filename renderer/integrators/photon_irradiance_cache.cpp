@@ -130,7 +130,8 @@ Color PhotonMapIrradianceCacheIntegrator::indirect(const Scene& scene, const Sha
                                                    RayStats& stats) const {
     Color L(0.0f);
     if (!maps_.caustic.empty())
-        L += maps_.caustic.radiance(sp, scene, settings_.photons.gatherPhotons, maps_.gatherRadius).value;
+        L += maps_.caustic.radiance(sp, scene, settings_.photons.gatherPhotons, maps_.gatherRadius, kCausticConeFilter)
+                 .value;
     Color reflectance = sp.bsdf.diffuseReflectance();
     if (isBlack(reflectance)) return L;
     lookups_.fetch_add(1, std::memory_order_relaxed);

@@ -35,7 +35,8 @@ bool PhotonMap::reaches(const Photon& photon, const PhotonLookup& at, float lift
 }
 
 template <class Weight>
-PhotonEstimate PhotonMap::estimate(const PhotonLookup& at, int k, float maxRadius, Weight&& weight) const {
+PhotonEstimate PhotonMap::estimate(const PhotonLookup& at, int k, float maxRadius, Weight&& weight,
+                                   float coneFilter) const {
     PhotonEstimate e;
     if (tree_.empty() || k < 2 || !(maxRadius > 0)) return e;
     std::vector<Neighbour> found;
@@ -55,19 +56,23 @@ PhotonEstimate PhotonMap::estimate(const PhotonLookup& at, int k, float maxRadiu
     for (size_t i = first; i < found.size(); ++i) {
         const Photon& photon = tree_[found[i].index];
         if (!reaches(photon, at, lift)) continue;
-        sum += weight(photon);
+        float filter = coneFilter > 0 ? 1 - std::sqrt(found[i].distance2 / radius2) / coneFilter : 1.0f;
+        sum += weight(photon) * std::max(0.0f, filter);
         e.photons++;
     }
-    e.value = sum / (kPi * radius2);
+    // A uniform density over the disc averages a cone's weight to 1 - 2 / (3 k).
+    float normalisation = coneFilter > 0 ? 1 - 2 / (3 * coneFilter) : 1.0f;
+    e.value = sum / (kPi * radius2 * normalisation);
     e.radius = std::sqrt(radius2);
     return e;
 }
 
-PhotonEstimate PhotonMap::irradiance(const PhotonLookup& at, int k, float maxRadius) const {
-    return estimate(at, k, maxRadius, [](const Photon& photon) { return photon.power; });
+PhotonEstimate PhotonMap::irradiance(const PhotonLookup& at, int k, float maxRadius, float coneFilter) const {
+    return estimate(at, k, maxRadius, [](const Photon& photon) { return photon.power; }, coneFilter);
 }
 
-PhotonEstimate PhotonMap::radiance(const ShadingPoint& sp, const Scene& scene, int k, float maxRadius) const {
+PhotonEstimate PhotonMap::radiance(const ShadingPoint& sp, const Scene& scene, int k, float maxRadius,
+                                   float coneFilter) const {
     return estimate(PhotonLookup::at(sp, scene), k, maxRadius, [&](const Photon& photon) {
         Vec3 wi = sp.frame.toLocal(photon.wi());
         // A photon that passed the normal test can still sit a hair below this point's
@@ -75,7 +80,7 @@ PhotonEstimate PhotonMap::radiance(const ShadingPoint& sp, const Scene& scene, i
         // a Lambertian surface keeps its whole irradiance instead of losing grazing photons.
         if (sp.woLocal.z * wi.z < 0) wi.z = -wi.z;
         return sp.bsdf.eval(sp.woLocal, wi) * photon.power;
-    });
+    }, coneFilter);
 }
 
 bool PhotonMap::nearest(const PhotonLookup& at, float maxRadius, Photon* found) const {

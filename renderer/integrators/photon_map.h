@@ -73,10 +73,13 @@ public:
     // raised off their surfaces).
     bool reaches(const Photon& photon, const PhotonLookup& at, float lift) const;
 
-    // Irradiance arriving at the lookup.
-    PhotonEstimate irradiance(const PhotonLookup& at, int k, float maxRadius) const;
+    // Irradiance arriving at the lookup (coneFilter as for radiance()).
+    PhotonEstimate irradiance(const PhotonLookup& at, int k, float maxRadius, float coneFilter = 0) const;
     // Radiance that sp's BSDF reflects towards sp.wo: sum of f(wo, wi_p) flux_p over the disc.
-    PhotonEstimate radiance(const ShadingPoint& sp, const Scene& scene, int k, float maxRadius) const;
+    // coneFilter > 0 weights photon p by 1 - d_p / (coneFilter r) (Jensen's cone filter, for
+    // caustics: sharper edges, less of a halo), normalised so a uniform density reads the same.
+    PhotonEstimate radiance(const ShadingPoint& sp, const Scene& scene, int k, float maxRadius,
+                            float coneFilter = 0) const;
     // The nearest photon around the lookup that passes all three guards, among the
     // kNearestCandidates nearest; false if none does within maxRadius. (For maps of
     // precomputed irradiance, which keep it in `power`.)
@@ -85,7 +88,7 @@ public:
 
 private:
     template <class Weight>
-    PhotonEstimate estimate(const PhotonLookup& at, int k, float maxRadius, Weight&& weight) const;
+    PhotonEstimate estimate(const PhotonLookup& at, int k, float maxRadius, Weight&& weight, float coneFilter = 0) const;
 
     KdTree<Photon> tree_;
 };
