@@ -8,7 +8,9 @@ starts, so its figure is Embree's traversal alone) in the same scene. The two
 alternate for --rounds rounds, so a burst of load on a shared machine hits one round, not one
 side: the median ratio is reported with the lowest and highest, and the median ratio of
 process CPU time per ray (Embree's over the renderer's), which other processes on a shared
-machine disturb less than wall time.
+machine disturb less than wall time. Last, "Embree share": the render's own rays, recorded and cast
+through Embree alone, over the render's time; it bounds the ratio above a renderer could reach
+with free shading, for this scene's rays.
 
     .venv/bin/python bench/rays.py [SCENE ...] [--spp 16] [--resolution 256 256] [--rounds 5]
 """
@@ -49,6 +51,15 @@ def measure(scene_path, spp, resolution, threads, rounds):
         embree_rps.append(embree["rays_per_second"])
         embree_cpu = embree["cpu_seconds"]  # the casting only: its rays are generated before
         cpu_ratios.append(embree_cpu / renderer_cpu)  # same ray count: the ratio of CPU-seconds per ray
+    peak_mb = _core.peak_memory_bytes() / 2**20  # before the replay's recorded rays
+    # Embree's share of the render: the render's own rays, recorded and cast through Embree alone
+    # (a quarter of the samples keeps the recording's memory modest), in rounds as above.
+    settings.spp = max(1, spp // 4)
+    shares, cpu_shares = [], []
+    for _ in range(rounds):
+        replay = _core.embree_replay_render_rays(scene, settings)
+        shares.append(replay["replay_seconds"] / replay["render_seconds"])
+        cpu_shares.append(replay["replay_cpu_seconds"] / replay["render_cpu_seconds"])
     ratios = [r / e for r, e in zip(renderer_rps, embree_rps)]
     median = statistics.median_low(ratios)
     i = ratios.index(median)
@@ -64,7 +75,9 @@ def measure(scene_path, spp, resolution, threads, rounds):
         "ratio_low": min(ratios),
         "ratio_high": max(ratios),
         "cpu_ratio": statistics.median(cpu_ratios),
-        "peak_memory_mb": _core.peak_memory_bytes() / 2**20,
+        "peak_memory_mb": peak_mb,
+        "embree_share": statistics.median(shares),
+        "embree_share_cpu": statistics.median(cpu_shares),
     }
 
 
@@ -78,13 +91,15 @@ def main(argv=None):
     parser.add_argument("--rounds", type=int, default=5, help="alternating renderer/Embree rounds (median reported)")
     args = parser.parse_args(argv)
     print(f"{'scene':<16} {'load s':>7} {'BVH s':>7} {'rays':>11} {'renderer rays/s':>16} "
-          f"{'Embree rays/s':>14} {'ratio':>6} {'low-high':>10} {'CPU ratio':>9} {'samples/s':>11} {'peak MB':>8}")
+          f"{'Embree rays/s':>14} {'ratio':>6} {'low-high':>10} {'CPU ratio':>9} {'samples/s':>11} {'peak MB':>8} "
+          f"{'Embree share':>12}")
     for path in args.scenes:
         r = measure(path, args.spp, args.resolution, args.threads, max(1, args.rounds))
         print(f"{r['scene']:<16} {r['load_s']:>7.3f} {r['bvh_build_s']:>7.3f} {r['rays']:>11,} "
               f"{r['renderer_rays_per_s']:>16,.0f} {r['embree_rays_per_s']:>14,.0f} {r['ratio']:>6.2f} "
               f"{r['ratio_low']:>4.2f}-{r['ratio_high']:<4.2f} {r['cpu_ratio']:>9.2f} "
-              f"{r['samples_per_s']:>11,.0f} {r['peak_memory_mb']:>8.0f}")
+              f"{r['samples_per_s']:>11,.0f} {r['peak_memory_mb']:>8.0f} "
+              f"{r['embree_share']:>5.2f} ({r['embree_share_cpu']:.2f} CPU)")
 
 
 if __name__ == "__main__":

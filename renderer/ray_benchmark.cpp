@@ -76,4 +76,54 @@ RayBenchmarkResult castIncoherentRays(const Scene& scene, uint64_t rays, uint32_
     return r;
 }
 
+RenderReplayResult replayRenderRays(const Scene& scene, RenderSettings settings) {
+    RenderReplayResult result;
+    settings.recordRays = nullptr;
+    {
+        Renderer renderer(scene, settings);
+        double cpuStart = processCpuSeconds();
+        renderer.render();
+        result.render.cpuSeconds = processCpuSeconds() - cpuStart;
+        result.render.seconds = renderer.stats().renderSeconds;
+        result.render.rays = renderer.stats().rays;
+    }
+    std::vector<RecordedRay> rays;
+    settings.recordRays = &rays;
+    {
+        Renderer renderer(scene, settings);
+        renderer.render();
+    }
+    RTCScene rtc = scene.embreeScene();
+    constexpr size_t kBatch = 4096;
+    tbb::enumerable_thread_specific<uint64_t> hits(0);
+    tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+    double cpuStart = processCpuSeconds();
+    auto start = std::chrono::steady_clock::now();
+    arena.execute([&] {
+        tbb::parallel_for(size_t(0), (rays.size() + kBatch - 1) / kBatch, [&](size_t batch) {
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+            uint64_t& h = hits.local();
+            for (size_t i = batch * kBatch, end = std::min(rays.size(), i + kBatch); i < end; ++i) {
+                const RecordedRay& r = rays[i];
+                if (r.occlusion) {
+                    RTCRay ray = toEmbreeRay(r.o, r.d, r.tMin, r.tMax);
+                    rtcOccluded1(rtc, &context, &ray);
+                    h += ray.tfar < 0;
+                } else {
+                    RTCRayHit rh = toEmbreeRayHit(r.o, r.d, r.tMin, r.tMax);
+                    rtcIntersect1(rtc, &context, &rh);
+                    h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+                }
+            }
+        });
+    });
+    result.replay.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.replay.cpuSeconds = processCpuSeconds() - cpuStart;
+    result.replay.rays = rays.size();
+    for (uint64_t h : hits) result.replay.hits += h;
+    return result;
+}
+
 }  // namespace gi

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 
+#include "render.h"
 #include "scene.h"
 
 namespace gi {
@@ -17,5 +18,14 @@ struct RayBenchmarkResult {
 };
 
 RayBenchmarkResult castIncoherentRays(const Scene& scene, uint64_t rays, uint32_t seed, int threads);
+
+// Embree's share of a render: renders once timed, once recording its rays (the same rays, since
+// renders are deterministic), then casts the recorded rays through Embree alone (closest hit or
+// occlusion, as the renderer did) on the same threads. replay.seconds / render.seconds is the
+// share of the render's time that is Embree's; 1 would mean the renderer costs nothing else.
+struct RenderReplayResult {
+    RayBenchmarkResult render, replay;
+};
+RenderReplayResult replayRenderRays(const Scene& scene, RenderSettings settings);
 
 }  // namespace gi

@@ -98,6 +98,7 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
     // Opt-in firefly clamp: a sample brighter than this luminance is scaled down to it (hue kept).
     const float clampLuminance = float(paramValue(*info_, settings_.params, "sampleClamp"));
     tbb::enumerable_thread_specific<ThreadCounters> counters;
+    std::vector<std::vector<RecordedRay>> tileRays(settings_.recordRays ? tileCount : 0);
     std::atomic<int> done{0};
     Vec3 forward = camera_.forward();
     tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
@@ -108,6 +109,7 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
             auto tile = std::make_unique<FilmTile>(x0, y0, std::min(x0 + kTileSize, w), std::min(y0 + kTileSize, h),
                                                    film_.filter());
             ThreadCounters& c = counters.local();
+            c.rays.record = settings_.recordRays ? &tileRays[t] : nullptr;
             Sampler sampler(settings_.seed);
             for (int y = tile->y0; y < tile->y1; ++y)
                 for (int x = tile->x0; x < tile->x1; ++x)
@@ -148,6 +150,7 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
     // Merged in tile order after the pass: the image does not depend on thread timing.
     if (complete)
         for (auto& tile : tiles) film_.merge(*tile);
+    for (auto& rays : tileRays) settings_.recordRays->insert(settings_.recordRays->end(), rays.begin(), rays.end());
     for (const ThreadCounters& c : counters) {
         stats_.rays += c.rays.rays;
         stats_.cameraSamples += c.samples;

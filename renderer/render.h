@@ -21,6 +21,9 @@ struct RenderSettings {
     int threads = 0;         // 0 = all hardware threads
     double timeLimit = 0;    // seconds; 0 = none (stops after a whole pass once exceeded)
     std::string filter = "box";
+    // Benchmarks only: every ray the render casts is appended here (in tile order, so the same
+    // settings record the same rays).
+    std::vector<RecordedRay>* recordRays = nullptr;
 };
 
 struct RenderStats {

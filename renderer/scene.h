@@ -19,8 +19,17 @@
 
 namespace gi {
 
+// A ray as the renderer handed it to Embree (bench/rays.py replays a render's rays through
+// Embree alone to measure Embree's share of the render).
+struct RecordedRay {
+    Vec3 o, d;
+    float tMin, tMax;
+    bool occlusion;  // rtcOccluded1 (shadow ray) rather than rtcIntersect1
+};
+
 struct RayStats {
     uint64_t rays = 0;
+    std::vector<RecordedRay>* record = nullptr;  // when set, every ray is appended (benchmarks only)
 };
 
 struct SurfaceInteraction {

@@ -230,7 +230,7 @@ struct RenderResult {
     std::map<std::string, double> stats;
 };
 
-RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::callable> progress) {
+RenderSettings toRenderSettings(const PyRenderSettings& py) {
     RenderSettings settings;
     settings.width = py.width;
     settings.height = py.height;
@@ -241,6 +241,11 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
     settings.timeLimit = py.timeLimit;
     settings.filter = py.filter;
     for (auto [key, value] : py.params) settings.params.set(nb::cast<std::string>(key), nb::cast<double>(value));
+    return settings;
+}
+
+RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::callable> progress) {
+    RenderSettings settings = toRenderSettings(py);
     {
         nb::gil_scoped_release release;
         scene.commit();
@@ -448,6 +453,23 @@ void bindRendering(nb::module_& m) {
                                                  {"rays_per_second", r.raysPerSecond()}};
         },
         "scene"_a, "rays"_a, "seed"_a = 0, "threads"_a = 0);
+    m.def(
+        "embree_replay_render_rays",
+        [](Scene& scene, const PyRenderSettings& py) {
+            RenderSettings settings = toRenderSettings(py);  // reads Python objects: before the GIL is released
+            nb::gil_scoped_release release;
+            scene.commit();
+            RenderReplayResult r = replayRenderRays(scene, settings);
+            return std::map<std::string, double>{{"render_rays", double(r.render.rays)},
+                                                 {"render_seconds", r.render.seconds},
+                                                 {"render_cpu_seconds", r.render.cpuSeconds},
+                                                 {"replay_rays", double(r.replay.rays)},
+                                                 {"replay_seconds", r.replay.seconds},
+                                                 {"replay_cpu_seconds", r.replay.cpuSeconds}};
+        },
+        "scene"_a, "settings"_a,
+        "Renders once timed, once recording its rays, then casts those rays through Embree alone: "
+        "replay_seconds / render_seconds is Embree's share of the render.");
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // spheres and instances intersect where they should.
 #include <gtest/gtest.h>
 
+#include "renderer/ray_benchmark.h"
 #include "scenes.h"
 
 using namespace gi;
@@ -132,4 +133,31 @@ TEST(Scene, FarFromOriginDoesNotSelfIntersect) {
     // A ray leaving the surface upwards must not hit the surface it starts on.
     Vec3 o = offsetRayOrigin(hit.si.p, hit.si.ng, Vec3(0, 1, 0));
     EXPECT_EQ(s.intersect(Ray{o, Vec3(0, 1, 0), 0, kInf}, st).kind, Intersection::Kind::None);
+}
+
+// bench/rays.py's "Embree share": the recording render records every ray the timed render
+// counted, and Embree alone casts them all.
+TEST(RayReplay, RecordsEveryRayTheRenderCasts) {
+    Scene scene;
+    int white = scene.addMaterial(lambert(Color(0.7f)));
+    addQuad(scene, "/Floor", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, white);
+    addQuad(scene, "/Wall", {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, white);
+    LightDesc light;
+    light.name = "/Light";
+    light.kind = "sphere";
+    light.radius = 0.2f;
+    light.intensity = 5;
+    light.transform.m[3][1] = 1.5f;
+    scene.addLight(light);
+    scene.setCamera(lookingDown({0, 3, 0.5f}, false, 30));
+    scene.commit();
+    RenderSettings settings;
+    settings.width = settings.height = 16;
+    settings.spp = 4;
+    RenderReplayResult r = replayRenderRays(scene, settings);
+    EXPECT_GT(r.render.rays, uint64_t(16 * 16 * 4));  // camera rays and more
+    EXPECT_EQ(r.replay.rays, r.render.rays);
+    EXPECT_GT(r.replay.hits, 0u);
+    EXPECT_LT(r.replay.hits, r.replay.rays);  // some shadow rays reach the light, some rays escape
+    EXPECT_GT(r.replay.seconds, 0);
 }
