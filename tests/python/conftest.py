@@ -53,6 +53,16 @@ def render(scene_path, integrator="path", spp=16, seed=0, resolution=(32, 32), *
     return np.asarray(result.color), result, loaded
 
 
+def new_stage(tmp_path, name="scene.usda"):
+    """A new stage file in tmp_path, Y up, with a camera at z = 5 looking down -z."""
+    from pxr import Gf, Usd, UsdGeom
+    path = tmp_path / name
+    stage = Usd.Stage.CreateNew(str(path))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.Camera.Define(stage, "/Camera").AddTranslateOp().Set(Gf.Vec3d(0, 0, 5))
+    return stage, path
+
+
 class RecordingScene:
     """Stands in for gi._core.Scene in loader tests: records every call and hands out ids, so the
     tests run without the compiled core."""

@@ -3,9 +3,9 @@ mesh piece of its own with its own material, the faces in none keep the mesh's m
 Stages are written with pxr into tmp_path; the render tests need the compiled core."""
 import numpy as np
 import pytest
-from pxr import Gf, Sdf, Usd, UsdGeom, UsdShade, Vt
+from pxr import Gf, Sdf, UsdGeom, UsdShade, Vt
 
-from conftest import render
+from conftest import new_stage, render
 from gi import descriptors, load_stage
 
 needs_core = pytest.mark.skipif(not descriptors.HAVE_CORE, reason="gi._core is not built")
@@ -17,14 +17,6 @@ STRIP_INDICES = [0, 2, 3, 1, 2, 4, 5, 3, 4, 6, 7, 5]
 
 
 # -- helpers -------------------------------------------------------------------------------------
-
-def new_stage(tmp_path, name="scene.usda"):
-    path = tmp_path / name
-    stage = Usd.Stage.CreateNew(str(path))
-    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
-    UsdGeom.Camera.Define(stage, "/Camera").AddTranslateOp().Set(Gf.Vec3d(0, 0, 5))
-    return stage, path
-
 
 def define_mesh(stage, path, points, counts, indices):
     mesh = UsdGeom.Mesh.Define(stage, path)

@@ -8,21 +8,13 @@ import numpy as np
 import pytest
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade, Vt
 
-from conftest import CORNELL, ROOT, SOURCE
+from conftest import CORNELL, ROOT, SOURCE, new_stage
 from gi import SceneError, load_stage
 
 QUAD = [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]
 
 
 # -- helpers -------------------------------------------------------------------------------------
-
-def new_stage(tmp_path, name="scene.usda"):
-    path = tmp_path / name
-    stage = Usd.Stage.CreateNew(str(path))
-    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
-    UsdGeom.Camera.Define(stage, "/Camera").AddTranslateOp().Set(Gf.Vec3d(0, 0, 5))
-    return stage, path
-
 
 def define_mesh(stage, path, points=QUAD, counts=(4,), indices=(0, 1, 2, 3)):
     mesh = UsdGeom.Mesh.Define(stage, path)
