@@ -19,6 +19,17 @@ inline MaterialDesc lambert(Color albedo, Color emission = Color(0.0f)) {
     return m;
 }
 
+// A UsdLux sphere light of the given radius and intensity centred at `center`.
+inline LightDesc sphereLight(const char* name, Vec3 center, float radius, float intensity) {
+    LightDesc l;
+    l.name = name;
+    l.kind = "sphere";
+    l.radius = radius;
+    l.intensity = intensity;
+    l.transform.m[3][0] = center.x, l.transform.m[3][1] = center.y, l.transform.m[3][2] = center.z;
+    return l;
+}
+
 // A quad p0..p3 (counter-clockwise seen from the side its normal points to).
 inline int addQuad(Scene& s, const char* name, Vec3 p0, Vec3 p1, Vec3 p2, Vec3 p3, int material) {
     return s.addMesh(name, {p0, p1, p2, p3}, {0, 1, 2, 0, 2, 3}, {}, {}, material, nullptr, true, -1);

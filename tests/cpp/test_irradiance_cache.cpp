@@ -60,13 +60,8 @@ void buildCornellBox(Scene& scene) {
     addQuad(scene, "/Left", {0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}, red);
     addQuad(scene, "/Right", {1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}, green);
     addQuad(scene, "/Block", {0.25f, 0, 0.35f}, {0.25f, 0.45f, 0.35f}, {0.45f, 0.45f, 0.5f}, {0.45f, 0, 0.5f}, white);
-    LightDesc bulb;
-    bulb.name = "/Light";
-    bulb.kind = "sphere";
-    bulb.radius = 0.05f;
-    bulb.intensity = 35;
+    LightDesc bulb = sphereLight("/Light", {0.5f, 0.85f, 0.5f}, 0.05f, 35);
     bulb.visibleToCamera = false;
-    bulb.transform.m[3][0] = 0.5f, bulb.transform.m[3][1] = 0.85f, bulb.transform.m[3][2] = 0.5f;
     scene.addLight(bulb);
     CameraDesc camera;
     camera.name = "/Camera";

@@ -36,12 +36,7 @@ Mat4 facingDown(float y) {  // rotate -90 degrees about X: local -Z -> world -Y
 }  // namespace
 
 TEST(Lights, SphereLightIrradiance) {
-    LightDesc l;
-    l.name = "/Sphere";
-    l.kind = "sphere";
-    l.radius = 0.3f;
-    l.intensity = 2;
-    l.transform = translateY(1.5f);
+    LightDesc l = sphereLight("/Sphere", {0, 1.5f, 0}, 0.3f, 2);
     double sinAlpha = 0.3 / 1.5;
     double expected = kAlbedo / kPi * kPi * 2 * sinAlpha * sinAlpha;
     EXPECT_NEAR(floorValue(l, "direct", 256, {{"lightSamples", 4}}), expected, 0.005 * expected);

@@ -394,13 +394,7 @@ void buildSealedBox(Scene& scene, bool withBoxLight) {
     addQuad(scene, "/Box/Left", {lo.x, lo.y, lo.z}, {lo.x, lo.y, hi.z}, {lo.x, hi.y, hi.z}, {lo.x, hi.y, lo.z}, white);
     addQuad(scene, "/Box/Right", {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z}, {hi.x, hi.y, hi.z}, {hi.x, lo.y, hi.z}, white);
     if (withBoxLight) {
-        LightDesc bulb;
-        bulb.name = "/Box/Bulb";
-        bulb.kind = "sphere";
-        bulb.radius = 0.1f;
-        bulb.intensity = 50;
-        bulb.transform.m[3][1] = 0.5f;
-        scene.addLight(bulb);
+        scene.addLight(sphereLight("/Box/Bulb", {0, 0.5f, 0}, 0.1f, 50));
     }
     scene.addLight(rectLight("/Sky", Vec3(1, 4, 1), Vec3(-0.2f, -1, -0.2f), 2, 3));
     CameraDesc camera;

@@ -142,13 +142,7 @@ TEST(RayReplay, RecordsEveryRayTheRenderCasts) {
     int white = scene.addMaterial(lambert(Color(0.7f)));
     addQuad(scene, "/Floor", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, white);
     addQuad(scene, "/Wall", {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, white);
-    LightDesc light;
-    light.name = "/Light";
-    light.kind = "sphere";
-    light.radius = 0.2f;
-    light.intensity = 5;
-    light.transform.m[3][1] = 1.5f;
-    scene.addLight(light);
+    scene.addLight(sphereLight("/Light", {0, 1.5f, 0}, 0.2f, 5));
     scene.setCamera(lookingDown({0, 3, 0.5f}, false, 30));
     scene.commit();
     RenderSettings settings;
