@@ -15,6 +15,18 @@
 
 namespace gi {
 
+// Default of every depth parameter (path, ray, photon and final-gather depth): unbounded in
+// effect. Russian roulette ends paths; the cap only stops one trapped forever (between two
+// mirrors, inside a lossless glass block), and each path it stops is counted and warned about.
+inline constexpr int kDepthCap = 1024;
+
+// Ends a path at its depth limit; counts it when the limit is the safety cap.
+inline bool depthLimitReached(int depth, int limit, RayStats& stats) {
+    if (depth < limit) return false;
+    if (limit >= kDepthCap) ++stats.depthCapped;
+    return true;
+}
+
 struct ParamInfo {
     std::string name;  // camelCase, as in USD render settings
     std::string type;  // "int" | "float" | "bool"
@@ -64,6 +76,17 @@ struct IntegratorInfo {
 
 const std::vector<IntegratorInfo>& integratorRegistry();
 const IntegratorInfo* findIntegrator(const std::string& name);
+
+// A named parameter set per integrator (historical settings, e.g. the thesis's tables).
+struct Preset {
+    std::string name, description;
+    std::map<std::string, std::map<std::string, double>> params;  // integrator -> parameter -> value
+};
+const std::vector<Preset>& presets();
+const Preset* findPreset(const std::string& name);
+// The preset's parameters for `integrator`, overridden by those the user chose; `chosen` as it
+// is for an empty name. Throws std::invalid_argument for an unknown preset.
+ParamSet withPreset(const std::string& preset, const std::string& integrator, const ParamSet& chosen);
 
 // Reads a parameter clamped to its declared range, falling back to its default.
 double paramValue(const IntegratorInfo& info, const ParamSet& params, const std::string& name);

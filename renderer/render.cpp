@@ -48,7 +48,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
         throw std::invalid_argument("unknown integrator '" + settings.integrator + "' (have: " + names + ")");
     }
     info_ = info;
-    integrator_ = info->create(settings.params);
+    settings_.params = withPreset(settings.preset, settings.integrator, settings.params);
+    integrator_ = info->create(settings_.params);
     CameraDesc desc = camera ? *camera : scene.hasCamera() ? scene.cameraDesc() : defaultCamera(scene);
     if (!desc.transform.isFinite() || desc.transform.det3() == 0) {
         scene.warn("camera " + desc.name + ": NaN, Inf or singular transform; using a camera that frames the scene");
@@ -156,6 +157,7 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
         stats_.cameraSamples += c.samples;
         stats_.nonFiniteSamples += c.nonFinite;
         stats_.clampedSamples += c.clamped;
+        stats_.depthCappedPaths += c.rays.depthCapped;
     }
     stats_.renderSeconds += secondsSince(start);
     if (complete) samplesTaken_ = std::max(samplesTaken_, firstSample + count);
@@ -179,6 +181,10 @@ void Renderer::render(const std::atomic<bool>* cancel) {
     stats_.seconds = secondsSince(start);
     stats_.peakMemoryBytes = peakResidentMemoryBytes();
     stats_.integrator = integrator_->statistics();
+    if (stats_.depthCappedPaths > 0)
+        scene_.warn(settings_.integrator + ": " + std::to_string(stats_.depthCappedPaths) +
+                    " paths reached the safety depth cap of " + std::to_string(kDepthCap) +
+                    " vertices and were ended there (light trapped between specular surfaces?)");
 }
 
 }  // namespace gi

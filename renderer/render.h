@@ -17,6 +17,7 @@ struct RenderSettings {
     int spp = 16;
     std::string integrator = "path";
     ParamSet params;
+    std::string preset;  // a named parameter set (integrator.h) under `params`; empty = the defaults
     uint32_t seed = 0;
     int threads = 0;         // 0 = all hardware threads
     double timeLimit = 0;    // seconds; 0 = none (stops after a whole pass once exceeded)
@@ -30,6 +31,7 @@ struct RenderStats {
     double seconds = 0, preprocessSeconds = 0, renderSeconds = 0;
     uint64_t rays = 0, cameraSamples = 0, nonFiniteSamples = 0;
     uint64_t clampedSamples = 0;  // samples the sampleClamp parameter scaled down
+    uint64_t depthCappedPaths = 0;  // paths the safety depth cap ended (kDepthCap; warned about)
     int spp = 0;
     size_t peakMemoryBytes = 0;
     std::map<std::string, double> integrator;

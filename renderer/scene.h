@@ -29,6 +29,7 @@ struct RecordedRay {
 
 struct RayStats {
     uint64_t rays = 0;
+    uint64_t depthCapped = 0;  // paths ended by the safety depth cap (kDepthCap), not by Russian roulette
     std::vector<RecordedRay>* record = nullptr;  // when set, every ray is appended (benchmarks only)
 };
 

@@ -120,6 +120,7 @@ class RenderSettings:
     spp: int                       # camera samples per pixel
     integrator: str                # a name from integrators()
     params: dict                   # integrator parameter name (camelCase) -> int | float | bool
+    preset: str                    # a name from presets() under params ('' = defaults); unknown: ValueError
     seed: int
     threads: int                   # 0 = all
     time_limit: float              # seconds, 0 = none
@@ -134,7 +135,10 @@ class RenderResult:
     spp: int                           # samples actually taken
     stats: dict                        # seconds, preprocess_seconds, render_seconds, rays, rays_per_second,
                                        # camera_samples, samples_per_second, non_finite_samples, clamped_samples,
-                                       # peak_memory_bytes, spp, + the integrator's own statistics
+                                       # depth_capped_paths, peak_memory_bytes, spp, + the integrator's own statistics
+
+def presets() -> list[dict]:
+    """[{'name', 'description', 'params': {integrator: {parameter: value}}}] (e.g. 'thesis')"""
 
 def integrators() -> list[dict]:
     """[{'name', 'description', 'params': [{'name', 'type' ('int'|'float'|'bool'), 'default', 'min', 'max', 'description'}]}]"""

@@ -49,6 +49,15 @@ def integrator_catalog():
     return _core.integrators()
 
 
+def preset_catalog():
+    """gi._core.presets(), or [] when the core is not built."""
+    try:
+        from . import _core
+    except ImportError:
+        return []
+    return _core.presets()
+
+
 class IntegratorFlags:
     """Command-line flags generated from every integrator's parameter list."""
 
@@ -143,7 +152,7 @@ def exr_metadata(args, params, result, loaded, wall_seconds):
     """String attributes that make the EXR reproducible: what rendered it, how, and when."""
     return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": loaded.camera_path,
             "gi:integrator": args.integrator, "gi:spp": str(result.spp), "gi:seed": str(args.seed),
-            "gi:params": json.dumps(params, sort_keys=True),
+            "gi:params": json.dumps(params, sort_keys=True), "gi:preset": args.preset or "",
             "gi:seconds": f"{result.stats.get('seconds', wall_seconds):.3f}",
             "gi:wall_seconds": f"{wall_seconds:.3f}",
             "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
@@ -166,6 +175,7 @@ def cmd_render(args, flags, parser):
         warn(message)
     settings = render_settings(loaded, args.integrator, params, args.spp, args.seed, args.threads,
                                args.time_limit, tuple(args.resolution) if args.resolution else None, args.filter)
+    settings.preset = args.preset or ""
     label = f"{Path(args.scene).name} [{args.integrator}]"
     result = render_loaded(loaded, settings, label, show_progress=sys.stderr.isatty())
     wall_seconds = time.perf_counter() - start
@@ -206,6 +216,11 @@ def add_render_parser(commands, flags):
     render.add_argument("-o", "--output", help="EXR path (default: out/<scene name>.exr)")
     render.add_argument("--integrator", default="path", choices=sorted(flags.owners) or None,
                         help="light transport technique (default: path)")
+    presets = preset_catalog()
+    render.add_argument("--preset", choices=[p["name"] for p in presets] or None,
+                        help="a named parameter set under the flags given: " +
+                             "; ".join(f"{p['name']}: {p['description']}" for p in presets) +
+                             " (default: none, the integrator's defaults: unbounded depths)")
     render.add_argument("--spp", type=positive_int, default=16, help="camera samples per pixel (default 16)")
     render.add_argument("--seed", type=int, default=0, help="sampler seed (default 0); renders are deterministic")
     render.add_argument("--threads", type=int, default=0, help="worker threads (default 0 = all cores)")

@@ -39,7 +39,8 @@ CHECK_LABEL = "reference"      # the reference against itself: every error must 
 
 # result.stats keys every render has (documented in _core.pyi); the others are the integrator's own.
 COMMON_STATS = {"seconds", "preprocess_seconds", "render_seconds", "rays", "rays_per_second", "camera_samples",
-                "samples_per_second", "non_finite_samples", "clamped_samples", "peak_memory_bytes", "spp"}
+                "samples_per_second", "non_finite_samples", "clamped_samples", "depth_capped_paths",
+                "peak_memory_bytes", "spp"}
 
 RUN_COLUMNS = ["label", "integrator", "budget_seconds", "spp", "params", "seconds", "preprocess_seconds",
                "render_seconds", "wall_seconds", "peak_memory_mb", "rmse_srgb8", "rmse_linear", "relative_mse",

@@ -218,6 +218,7 @@ struct PyRenderSettings {
     int width = 512, height = 512, spp = 16;
     std::string integrator = "path";
     nb::dict params;
+    std::string preset;
     uint32_t seed = 0;
     int threads = 0;
     double timeLimit = 0;
@@ -240,6 +241,7 @@ RenderSettings toRenderSettings(const PyRenderSettings& py) {
     settings.threads = py.threads;
     settings.timeLimit = py.timeLimit;
     settings.filter = py.filter;
+    settings.preset = py.preset;
     for (auto [key, value] : py.params) settings.params.set(nb::cast<std::string>(key), nb::cast<double>(value));
     return settings;
 }
@@ -296,6 +298,7 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
                {"samples_per_second", s.renderSeconds > 0 ? s.cameraSamples / s.renderSeconds : 0},
                {"non_finite_samples", double(s.nonFiniteSamples)},
                {"clamped_samples", double(s.clampedSamples)},
+               {"depth_capped_paths", double(s.depthCappedPaths)},
                {"peak_memory_bytes", double(s.peakMemoryBytes)},
                {"spp", double(s.spp)}};
     for (const auto& [k, v] : s.integrator) r.stats[k] = v;
@@ -331,6 +334,7 @@ void bindRendering(nb::module_& m) {
         .def_rw("spp", &PyRenderSettings::spp)
         .def_rw("integrator", &PyRenderSettings::integrator)
         .def_rw("params", &PyRenderSettings::params)
+        .def_rw("preset", &PyRenderSettings::preset)
         .def_rw("seed", &PyRenderSettings::seed)
         .def_rw("threads", &PyRenderSettings::threads)
         .def_rw("time_limit", &PyRenderSettings::timeLimit)
@@ -345,6 +349,20 @@ void bindRendering(nb::module_& m) {
         .def_ro("stats", &RenderResult::stats);
 
     m.def("render", &render, "scene"_a, "settings"_a, "progress"_a = nb::none());
+
+    m.def("presets", [] {
+        nb::list out;
+        for (const Preset& preset : presets()) {
+            nb::dict d;
+            d["name"] = preset.name;
+            d["description"] = preset.description;
+            nb::dict params;
+            for (const auto& [integrator, values] : preset.params) params[integrator.c_str()] = values;
+            d["params"] = params;
+            out.append(d);
+        }
+        return out;
+    });
 
     m.def("integrators", [] {
         nb::list out;

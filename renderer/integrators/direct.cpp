@@ -1,6 +1,7 @@
 #include "direct.h"
 
 #include "path.h"
+#include "specular_chain.h"
 
 namespace gi {
 
@@ -12,30 +13,40 @@ Color DirectIntegrator::Li(const Ray& ray, const Scene& scene, Sampler& sampler,
     return trace(ray, scene, sampler, stats, aovs, 0, true);
 }
 
-Color DirectIntegrator::trace(const Ray& ray, const Scene& scene, Sampler& sampler, RayStats& stats,
+Color DirectIntegrator::trace(const Ray& cameraOrBranch, const Scene& scene, Sampler& sampler, RayStats& stats,
                               SampleAovs* aovs, int specularDepth, bool cameraRay) const {
-    Intersection hit = intersectVisible(scene, ray, sampler, stats, cameraRay);
-    // Only camera rays and specular branches get here, so emitters count in full (no MIS).
-    if (hit.kind == Intersection::Kind::None) return escapedRadiance(scene, ray, 0, true, cameraRay);
-    Color L = emittedOnHit(scene, hit, ray, ray.o, 0, true);
-    if (hit.kind == Intersection::Kind::Light) return L;
-    ShadingPoint sp = makeShadingPoint(hit.si, -ray.d);
-    recordAovs(aovs, sp, hit.t);
-    if (sp.bsdf.hasNonDelta()) {
-        Color direct(0.0f);
-        for (int i = 0; i < lightSamples_; ++i) direct += sampleDirectLight(scene, sp, sampler, stats, false);
-        L += direct / float(lightSamples_);
-        L += indirect(scene, sp, sampler, stats);
-    }
-    if (specularDepth < rayDepth_) {
+    Ray ray = cameraOrBranch;
+    Color L(0.0f), weight(1.0f);
+    for (;; ++specularDepth, cameraRay = false, aovs = nullptr) {
+        Intersection hit = intersectVisible(scene, ray, sampler, stats, cameraRay);
+        // Only camera rays and specular branches get here, so emitters count in full (no MIS).
+        if (hit.kind == Intersection::Kind::None) return L + weight * escapedRadiance(scene, ray, 0, true, cameraRay);
+        L += weight * emittedOnHit(scene, hit, ray, ray.o, 0, true);
+        if (hit.kind == Intersection::Kind::Light) return L;
+        ShadingPoint sp = makeShadingPoint(hit.si, -ray.d);
+        recordAovs(aovs, sp, hit.t);
+        if (sp.bsdf.hasNonDelta()) {
+            Color direct(0.0f);
+            for (int i = 0; i < lightSamples_; ++i) direct += sampleDirectLight(scene, sp, sampler, stats, false);
+            L += weight * (direct / float(lightSamples_) + indirect(scene, sp, sampler, stats));
+        }
         BsdfSample branches[3];
         int n = sp.bsdf.deltaBranches(sp.woLocal, branches);
-        for (int i = 0; i < n; ++i) {
-            Ray next = spawnRay(sp.si, sp.frame.toWorld(branches[i].wi));
-            L += branches[i].weight * trace(next, scene, sampler, stats, nullptr, specularDepth + 1, false);
+        if (n == 0 || depthLimitReached(specularDepth, rayDepth_, stats)) return L;
+        if (specularDepth < kSplitDepth) {  // every branch (specular_chain.h)
+            for (int i = 0; i < n; ++i) {
+                Ray next = spawnRay(sp.si, sp.frame.toWorld(branches[i].wi));
+                L += weight * branches[i].weight * trace(next, scene, sampler, stats, nullptr, specularDepth + 1, false);
+            }
+            return L;
         }
+        Color picked;
+        int pick = pickDeltaBranch(branches, n, sampler.get1D(), &picked);
+        if (pick < 0) return L;
+        weight *= picked;
+        if (!isFinite(weight) || isBlack(weight)) return L;
+        ray = spawnRay(sp.si, sp.frame.toWorld(branches[pick].wi));
     }
-    return L;
 }
 
 }  // namespace gi

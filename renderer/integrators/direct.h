@@ -1,6 +1,7 @@
 // The ray tracer the irradiance-caching integrators build on (thesis 3.3.1): emission, direct
 // light by light sampling at every non-specular hit, and recursion into every specular
-// (delta) branch up to `rayDepth`. Indirect diffuse light is left to `indirect()`, which the
+// (delta) branch for the first kSplitDepth specular vertices, one branch picked by weight
+// deeper, up to `rayDepth` (specular_chain.h). Indirect diffuse light is left to `indirect()`, which the
 // plain ray tracer leaves at zero.
 #pragma once
 #include "../integrator.h"

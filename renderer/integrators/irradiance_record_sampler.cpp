@@ -30,7 +30,7 @@ IrradianceRecordSampler::IrradianceRecordSampler(const RecordSettings& settings)
     : settings_(settings),
       layout_(HemisphereLayout::forPaths(settings.paths)),
       // The continuation starts at the record path's second vertex, so it gets one vertex less.
-      continuation_(1, std::max(0, settings.pathDepth - 1), settings.rayDepth, std::max(0, settings.rouletteDepth - 1)) {}
+      continuation_(1, continuationDepth(settings.pathDepth), settings.rayDepth, std::max(0, settings.rouletteDepth - 1)) {}
 
 uint32_t IrradianceRecordSampler::streamKey(const RecordSite& site) {
     uint32_t h = 0x1c0ffee5u;

@@ -24,12 +24,16 @@ struct RecordSite {
 
 struct RecordSettings {
     int paths = 108;        // M N hemisphere rays
-    int pathDepth = 5;      // scattering vertices of a record's paths, counting the record's own
-    int rayDepth = 5;       // specular vertices of those paths
+    int pathDepth = kDepthCap;  // scattering vertices of a record's paths, counting the record's own
+    int rayDepth = kDepthCap;   // specular vertices of those paths
     int rouletteDepth = 3;  // vertices before Russian roulette
     float accuracy = 1;     // k of 2.32
     float minSpacing = 1.5f, maxSpacing = 10;  // record radius bounds, in pixels
 };
+
+// Depth of the path that continues a record's path from its second vertex: one less, except
+// that the safety cap stays the cap.
+inline int continuationDepth(int pathDepth) { return pathDepth >= kDepthCap ? kDepthCap : std::max(0, pathDepth - 1); }
 
 class IrradianceRecordSampler {
 public:

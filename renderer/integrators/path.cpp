@@ -48,7 +48,7 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
         L += beta * sampleDirectLight(scene, sp, uLight, uChoice.x, stats, true);
         BsdfSample bs = sp.bsdf.sample(sp.woLocal, uChoice.y, sampler.get2D());
         if (!bs.valid) break;
-        if (bs.delta && ++specularVertices > rayDepth_) break;
+        if (bs.delta && depthLimitReached(specularVertices++, rayDepth_, stats)) break;
         beta *= bs.weight;
         if (!isFinite(beta) || isBlack(beta)) break;
         Vec3 wi = sp.frame.toWorld(bs.wi);
@@ -59,7 +59,7 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
             break;
         }
         L += beta * emittedOnHit(scene, hit, next, sp.si.p, bs.pdf, bs.delta);
-        if (hit.kind == Intersection::Kind::Light || vertices >= pathDepth_) break;
+        if (hit.kind == Intersection::Kind::Light || depthLimitReached(vertices, pathDepth_, stats)) break;
         ++vertices;
         sp = makeShadingPoint(hit.si, -wi);
         if (vertices > rouletteDepth_) {

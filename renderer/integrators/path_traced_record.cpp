@@ -6,7 +6,7 @@ PathTracedRecordSampler::PathTracedRecordSampler(const RecordSettings& settings,
     : settings_(settings),
       layout_(HemisphereLayout::forPaths(settings.paths)),
       // The continuation starts at the record path's second vertex, so it gets one vertex less.
-      continuation_(1, std::max(0, settings.pathDepth - 1), settings.rayDepth, std::max(0, settings.rouletteDepth - 1)),
+      continuation_(1, continuationDepth(settings.pathDepth), settings.rayDepth, std::max(0, settings.rouletteDepth - 1)),
       leaveOutCaustics_(leaveOutCaustics) {}
 
 Color PathTracedRecordSampler::bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi,
@@ -30,7 +30,7 @@ Color PathTracedRecordSampler::bouncedRadiance(const Scene& scene, const Surface
             return weight * (L + continuation_.continuePath(scene, sp, sampler, stats));
         // A purely specular surface: follow one branch, picked by its weight, and see whether
         // the path finds a non-specular surface before it finds light.
-        if (specularVertices >= settings_.rayDepth) return weight * L;
+        if (depthLimitReached(specularVertices, settings_.rayDepth, stats)) return weight * L;
         float uLobe = sampler.get1D();
         BsdfSample bs = sp.bsdf.sample(sp.woLocal, uLobe, sampler.get2D());
         if (!bs.valid) return weight * L;

@@ -56,23 +56,29 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
             L += weight * si.material->emission(si.uv);
         ShadingPoint sp = makeShadingPoint(si, -ray.d);
         Color reflectance = sp.bsdf.diffuseReflectance();
-        Photon nearest;
-        if (!isBlack(reflectance) && maps_.irradiance.nearest(PhotonLookup::at(sp, scene), maps_.gatherRadius, &nearest)) {
-            L += weight * reflectance * nearest.power * kInvPi;
+        if (!isBlack(reflectance)) {
+            PhotonLookup at = PhotonLookup::at(sp, scene);
+            Photon nearest;
+            Color E;
+            if (maps_.irradiance.nearest(at, maps_.gatherRadius, &nearest)) {
+                E = nearest.power;
+            } else {
+                // No precomputed photon near enough where photons are sparse (4 times sparser
+                // than the global map's): the global map's own estimate, rather than darkness.
+                E = maps_.global.irradiance(at, settings_.photons.gatherPhotons, maps_.gatherRadius).value;
+                fallbackLookups_.fetch_add(1, std::memory_order_relaxed);
+            }
+            L += weight * reflectance * E * kInvPi;
             lookups_.fetch_add(1, std::memory_order_relaxed);
         }
-        if (vertex >= settings_.finalGatherDepth) return L;
         // Continue through one specular branch, picked in proportion to its weight.
         BsdfSample branches[3];
         int n = sp.bsdf.deltaBranches(sp.woLocal, branches);
-        if (n == 0) return L;
-        float total = 0;
-        for (int i = 0; i < n; ++i) total += maxComponent(branches[i].weight);
-        if (!(total > 0)) return L;
-        float u = sampler.get1D() * total;
-        int pick = 0;
-        while (pick + 1 < n && u >= maxComponent(branches[pick].weight)) u -= maxComponent(branches[pick++].weight);
-        weight *= branches[pick].weight * (total / maxComponent(branches[pick].weight));
+        if (n == 0 || depthLimitReached(vertex, settings_.finalGatherDepth, stats)) return L;
+        Color picked;
+        int pick = pickDeltaBranch(branches, n, sampler.get1D(), &picked);
+        if (pick < 0) return L;
+        weight *= picked;
         if (!isFinite(weight) || isBlack(weight)) return L;
         ray = spawnRay(sp.si, sp.frame.toWorld(branches[pick].wi));
     }
@@ -82,6 +88,7 @@ std::map<std::string, double> PhotonMapFinalGatherIntegrator::statistics() const
     std::map<std::string, double> stats = maps_.statistics;
     stats["finalGatherRays"] = double(gatherRays_.load());
     stats["photonLookups"] = double(lookups_.load());
+    stats["globalMapFallbackLookups"] = double(fallbackLookups_.load());
     return stats;
 }
 

@@ -25,8 +25,8 @@ namespace gi {
 struct PhotonFinalGatherSettings {
     PhotonMapSettings photons;
     int finalGatherSamples = 16;  // thesis table 4.3
-    int finalGatherDepth = 5;
-    int rayDepth = 5;
+    int finalGatherDepth = kDepthCap;
+    int rayDepth = kDepthCap;
     int lightSamples = 1;
 };
 
@@ -47,7 +47,7 @@ private:
 
     PhotonFinalGatherSettings settings_;
     PhotonMaps maps_;
-    mutable std::atomic<uint64_t> gatherRays_{0}, lookups_{0};
+    mutable std::atomic<uint64_t> gatherRays_{0}, lookups_{0}, fallbackLookups_{0};
 };
 
 }  // namespace gi

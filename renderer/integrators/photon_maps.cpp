@@ -80,14 +80,14 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
     }
     if (emitters.empty()) globalCount = causticCount = 0;
 
-    std::atomic<uint64_t> rays{0};
+    PhotonTracer::Counters counters;
     PhotonTracer tracer(scene, emitters.distribution, context.seed);
     std::vector<Photon> globalPhotons, causticPhotons;
     if (globalCount > 0) {
         PhotonTraceSettings global;
         global.maxBounces = settings.photonDepth;
         global.keepDirect = global.keepCaustic = settings.globalKeepsDirectAndCaustic;
-        globalPhotons = tracer.tracePass(kGlobalStream, globalCount, global, rays, context.cancel);
+        globalPhotons = tracer.tracePass(kGlobalStream, globalCount, global, counters, context.cancel);
         if (globalPhotons.empty())
             scene.warn("photon mapping: none of " + std::to_string(globalCount) +
                        " photons landed on a surface that reflects light diffusely; the global map is empty");
@@ -97,13 +97,17 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
         caustic.maxBounces = settings.photonDepth;
         caustic.causticOnly = true;
         caustic.keepDirect = caustic.keepIndirect = false;
-        causticPhotons = tracer.tracePass(kCausticStream, causticCount, caustic, rays, context.cancel);
+        causticPhotons = tracer.tracePass(kCausticStream, causticCount, caustic, counters, context.cancel);
         if (causticPhotons.empty())
             scene.warn("photon mapping: none of " + std::to_string(causticCount) +
                        " caustic photons found a specular path to a diffuse surface; the caustic map is empty");
     }
     stats["photonTraceSeconds"] = secondsSince(traceStart);  // the pilot included
-    stats["photonRays"] = double(rays.load());
+    stats["photonRays"] = double(counters.rays.load());
+    stats["photonsAtDepthCap"] = double(counters.depthCapped.load());
+    if (counters.depthCapped.load() > 0)
+        scene.warn("photon mapping: " + std::to_string(counters.depthCapped.load()) + " photons reached the safety cap of " +
+                   std::to_string(kDepthCap) + " bounces (trapped between specular surfaces?) and were stopped there");
     stats["photonsEmitted"] = globalCount;
     stats["causticPhotonsEmitted"] = causticCount;
 

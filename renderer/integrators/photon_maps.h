@@ -26,10 +26,10 @@ inline constexpr double kMaxPhotonsPerMap = double(1u << 24);
 struct PhotonMapSettings {
     double photons = 500000;         // emitted for the global map
     double causticPhotons = 500000;  // emitted for the caustic map
-    int photonDepth = 5;             // reflections before absorption
+    int photonDepth = kDepthCap;     // reflections before absorption
     int gatherPhotons = 50;          // k of the density estimates
     float maxGatherRadius = 0;       // 0: a tenth of the scene's bounding radius
-    int rayDepth = 5;                // specular depth of the camera paths that decide which lights matter
+    int rayDepth = kDepthCap;        // specular depth of the camera paths that decide which lights matter
     // Final gathering reads every photon from the global map; the irradiance cache adds the
     // direct light by light sampling and caustics from the caustic map, so its global map
     // holds only photons that have bounced off a non-specular surface.

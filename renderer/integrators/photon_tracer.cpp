@@ -36,7 +36,7 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
             photon.surface = photonSurface(sp.si.shapeId, sp.si.instanceId);
             land(photon, path, light);
         }
-        if (bounces >= settings.maxBounces) return light;
+        if (depthLimitReached(bounces, settings.maxBounces, stats)) return light;
         float uLobe = sampler.get1D();
         Vec2 u = sampler.get2D();
         float uSurvival = sampler.get1D();
@@ -59,7 +59,7 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
 }
 
 std::vector<Photon> PhotonTracer::tracePass(uint32_t stream, uint32_t count, const PhotonTraceSettings& settings,
-                                            std::atomic<uint64_t>& rays, const std::atomic<bool>* cancel) const {
+                                            Counters& counters, const std::atomic<bool>* cancel) const {
     constexpr uint32_t kChunk = 4096;
     size_t chunks = (size_t(count) + kChunk - 1) / kChunk;
     std::vector<std::vector<Photon>> stored(chunks);
@@ -73,7 +73,8 @@ std::vector<Photon> PhotonTracer::tracePass(uint32_t stream, uint32_t count, con
             RayStats stats;
             uint32_t end = uint32_t(std::min<size_t>(count, (chunk + 1) * kChunk));
             for (uint32_t i = uint32_t(chunk * kChunk); i < end; ++i) trace(stream, i, count, settings, stats, keep);
-            rays.fetch_add(stats.rays, std::memory_order_relaxed);
+            counters.rays.fetch_add(stats.rays, std::memory_order_relaxed);
+            counters.depthCapped.fetch_add(stats.depthCapped, std::memory_order_relaxed);
         }
     });
     // Concatenated in chunk order: photon order, whichever thread traced what.

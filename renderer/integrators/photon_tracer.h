@@ -28,7 +28,7 @@ namespace gi {
 enum class PhotonPath : uint8_t { Direct, Caustic, Indirect };
 
 struct PhotonTraceSettings {
-    int maxBounces = 5;        // the thesis's "photon depth": reflections before absorption
+    int maxBounces = kDepthCap;  // the thesis's "photon depth": reflections before absorption
     bool causticOnly = false;  // end a path at its first non-specular bounce (the caustic pass)
     // Which landings tracePass keeps.
     bool keepDirect = true, keepCaustic = true, keepIndirect = true;
@@ -54,8 +54,12 @@ public:
 
     // Traces photons [0, count) of `stream` on all threads and returns the landings that
     // settings.keeps(), in photon order. Stops early (between chunks) when cancelled.
+    struct Counters {
+        std::atomic<uint64_t> rays{0};
+        std::atomic<uint64_t> depthCapped{0};  // photons stopped by the safety depth cap
+    };
     std::vector<Photon> tracePass(uint32_t stream, uint32_t count, const PhotonTraceSettings& settings,
-                                  std::atomic<uint64_t>& rays, const std::atomic<bool>* cancel) const;
+                                  Counters& counters, const std::atomic<bool>* cancel) const;
 
 private:
     const Scene& scene_;

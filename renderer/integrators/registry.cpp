@@ -1,6 +1,9 @@
 // Every integrator with its parameters. The CLI's flags and Hydra's render settings are
 // generated from this list, so a parameter exists in one place only.
 #include "../integrator.h"
+
+#include <stdexcept>
+
 #include "adaptive_irradiance_cache.h"
 #include "direct.h"
 #include "irradiance_cache_integrator.h"
@@ -17,8 +20,11 @@ ParamInfo intParam(const char* name, double def, double lo, double hi, const cha
 }
 
 const ParamInfo kPaths = intParam("paths", 1, 1, 65536, "paths traced from each camera sample's first hit");
-const ParamInfo kPathDepth = intParam("pathDepth", 5, 0, 1024, "maximum scattering vertices of a path");
-const ParamInfo kRayDepth = intParam("rayDepth", 5, 0, 1024, "maximum specular (mirror/refraction) vertices");
+// Depths default to the safety cap: unbounded in effect, Russian roulette ends paths (kDepthCap).
+const ParamInfo kPathDepth = intParam("pathDepth", kDepthCap, 0, kDepthCap,
+                                      "maximum scattering vertices of a path (default: unbounded, Russian roulette)");
+const ParamInfo kRayDepth = intParam("rayDepth", kDepthCap, 0, kDepthCap,
+                                     "maximum specular (mirror/refraction) vertices (default: unbounded)");
 const ParamInfo kRouletteDepth =
     intParam("rouletteDepth", 3, 0, 1024, "vertices before Russian roulette may end a path");
 const ParamInfo kLightSamples = intParam("lightSamples", 1, 1, 4096, "light samples per shading point");
@@ -34,17 +40,19 @@ const ParamInfo kThreshold = ParamInfo{"threshold", "float", 0.02, 0, 1,
 const ParamInfo kRefinementRounds =
     intParam("refinementRounds", 1000, 0, 100000, "adaptive refinement: most rounds of the refinement queue");
 
-// Photon mapping (thesis 2.4.7, 3.3.4, 3.3.5; 500 000 photons of depth 5 as in tables 4.3-4.15).
+// Photon mapping (thesis 2.4.7, 3.3.4, 3.3.5; 500 000 photons as in tables 4.3-4.15).
 const ParamInfo kPhotons = intParam("photons", 500000, 0, 1e12,
                                     "photons emitted for the global photon map (more than 2^24 is clamped, with a warning)");
 const ParamInfo kCausticPhotons =
     intParam("causticPhotons", 500000, 0, 1e12, "photons emitted for the caustic map (L S+ D paths); none without specular surfaces");
-const ParamInfo kPhotonDepth = intParam("photonDepth", 5, 0, 1024, "most reflections of a photon before it is absorbed");
+const ParamInfo kPhotonDepth = intParam("photonDepth", kDepthCap, 0, kDepthCap,
+                                        "most reflections of a photon (default: unbounded, Russian roulette absorbs it)");
 const ParamInfo kMaxGatherRadius = ParamInfo{"maxGatherRadius", "float", 0, 0, 1e30,
                                              "largest photon density-estimate radius, scene units; 0 = a tenth of the scene's radius"};
 const ParamInfo kFinalGatherSamples = intParam("finalGatherSamples", 16, 0, 65536, "final-gather rays per shading point");
 const ParamInfo kFinalGatherDepth =
-    intParam("finalGatherDepth", 5, 1, 1024, "most vertices of a final-gather path (specular ones continue it)");
+    intParam("finalGatherDepth", kDepthCap, 1, kDepthCap,
+             "most vertices of a final-gather path (specular ones continue it; default: unbounded)");
 const ParamInfo kPhotonRecordPaths = intParam(
     "paths", 120, 1, 65536, "hemisphere paths of a record where photons are too few (path-traced record; thesis: 120)");
 
@@ -149,7 +157,61 @@ std::vector<IntegratorInfo> buildRegistry() {
     return list;
 }
 
+// The thesis's parameter tables: 4.1-4.3 for the Cornell box ("Caixa"), 4.9-4.11 for Sibenik.
+// Depth 5 everywhere, and the path tracer's paths per sample; the rest are already the defaults
+// (108 and 120 record paths, 500 000 photons, 16 final-gather rays), written out so the preset
+// keeps them if a default changes.
+std::vector<Preset> buildPresets() {
+    auto thesis = [](const char* name, const char* description, double pathPaths, double gatherSamples) {
+        const double depth = 5;
+        Preset p{name, description, {}};
+        p.params["path"] = {{"paths", pathPaths}, {"pathDepth", depth}, {"rayDepth", depth}};
+        p.params["direct"] = {{"rayDepth", depth}};
+        for (const char* cache : {"irradianceCache", "adaptiveIrradianceCache"})
+            p.params[cache] = {{"paths", 108}, {"pathDepth", depth}, {"rayDepth", depth}};
+        p.params["photonMapFinalGather"] = {{"photons", 500000}, {"causticPhotons", 500000}, {"photonDepth", depth},
+                                            {"finalGatherSamples", gatherSamples}, {"finalGatherDepth", depth},
+                                            {"rayDepth", depth}};
+        p.params["photonMapIrradianceCache"] = {{"photons", 500000}, {"causticPhotons", 500000}, {"photonDepth", depth},
+                                                {"paths", 120}, {"pathDepth", depth}, {"rayDepth", depth}};
+        return p;
+    };
+    return {thesis("thesis", "the thesis's tables 4.1-4.3 (Cornell box): depth 5, 8 paths per path-traced sample, "
+                             "16 final-gather rays",
+                   8, 16),
+            thesis("thesis-sibenik", "the thesis's tables 4.9-4.11 (Sibenik): depth 5, 10 paths per path-traced sample, "
+                                     "20 final-gather rays",
+                   10, 20)};
+}
+
 }  // namespace
+
+const std::vector<Preset>& presets() {
+    static const std::vector<Preset> list = buildPresets();  // immutable after first use
+    return list;
+}
+
+const Preset* findPreset(const std::string& name) {
+    for (const Preset& p : presets())
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+ParamSet withPreset(const std::string& presetName, const std::string& integrator, const ParamSet& chosen) {
+    if (presetName.empty()) return chosen;
+    const Preset* preset = findPreset(presetName);
+    if (!preset) {
+        std::string names;
+        for (const Preset& p : presets()) names += (names.empty() ? "" : ", ") + p.name;
+        throw std::invalid_argument("unknown preset '" + presetName + "' (have: " + names + ")");
+    }
+    ParamSet merged;
+    auto it = preset->params.find(integrator);
+    if (it != preset->params.end())
+        for (const auto& [name, value] : it->second) merged.set(name, value);
+    for (const auto& [name, value] : chosen.values()) merged.set(name, value);  // what the user chose wins
+    return merged;
+}
 
 const std::vector<IntegratorInfo>& integratorRegistry() {
     static const std::vector<IntegratorInfo> registry = buildRegistry();  // immutable after first use

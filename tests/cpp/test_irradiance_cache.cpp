@@ -225,22 +225,19 @@ TEST(IrradianceCacheRender, CornerIsFiniteAndPlausible) {
     }
 }
 
-// The adaptive variant's count grows from k = 1 on; below that its refinement adds more
-// records the looser the start is (a loose cache is discernibly wrong in more places).
-std::vector<double> accuracies(const std::string& integrator, std::vector<double> all) {
-    if (integrator == "adaptiveIrradianceCache") all.erase(all.begin(), std::find(all.begin(), all.end(), 1.0));
-    return all;
-}
-
+// The records the accuracy controls: the plain cache's, and the adaptive cache's first fill.
+// (The adaptive cache's refinement then adds records where the cache is discernibly wrong,
+// more the looser the start, so its total is not monotone in the accuracy.)
 TEST(IrradianceCacheRender, RecordsGrowAsAccuracyTightens) {
     for (const char* integrator : kCaches) {
+        const char* counted = std::string(integrator) == "adaptiveIrradianceCache" ? "firstFillRecords" : "records";
         double previous = 0;
-        for (double accuracy : accuracies(integrator, {0.5, 1.0, 2.0, 4.0})) {
+        for (double accuracy : {0.5, 1.0, 2.0, 4.0}) {
             Scene scene;
             buildCorner(scene);
             Rendered image = render(scene, integrator, 48, 1, {{"paths", 32}, {"accuracy", accuracy}});
-            double records = image.stats.integrator.at("records");
-            std::printf("[ records  ] %s accuracy %g: %.0f records\n", integrator, accuracy, records);
+            double records = image.stats.integrator.at(counted);
+            std::printf("[ records  ] %s accuracy %g: %.0f %s\n", integrator, accuracy, records, counted);
             EXPECT_GT(records, previous) << integrator << " accuracy " << accuracy;
             previous = records;
         }
