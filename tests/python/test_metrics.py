@@ -217,3 +217,15 @@ def test_fireflies_over_seeds_are_pixels_far_above_their_own_median():
     # Fewer seeds than a median needs: each image against its own median, averaged.
     assert metrics.firefly_count_over_seeds(images[:2]) == np.mean([metrics.firefly_count(i) for i in images[:2]])
     assert metrics.firefly_count_over_seeds([const(0.0)] * 3) == 0
+
+
+def test_local_outliers_count_a_splotch_not_noise():
+    rng = np.random.default_rng(3)
+    ref = np.full((64, 64, 3), 0.5, np.float32)
+    noisy = lambda: ref * rng.gamma(4.0, 0.25, size=(64, 64, 1)).astype(np.float32)  # noqa: E731
+    a, b = noisy(), noisy()
+    sigma = metrics.block_noise(a, b)
+    assert metrics.local_outlier_share(noisy(), ref, sigma) == 0
+    splotched = noisy()
+    splotched[8:16, 24:32] *= 1.5  # one 8x8 block 50% too bright: 64 blocks, one of them
+    assert metrics.local_outlier_share(splotched, ref, sigma) == pytest.approx(1 / 64)
