@@ -61,6 +61,11 @@ class Integrator {
 public:
     virtual ~Integrator() = default;
     virtual void preprocess(const PreprocessContext&) {}
+    // Integrators whose work depends on the sample index (a photon map per iteration) get each
+    // pass's samples [firstSample, firstSample + count) before its tiles, at most
+    // maxSamplesPerPass() of them at once (0: any number; the renderer splits longer passes).
+    virtual int maxSamplesPerPass() const { return 0; }
+    virtual void beginPass(const PreprocessContext&, int /*firstSample*/, int /*count*/) {}
     // Radiance arriving along -ray.d at ray.o. Fills `aovs` (if given) at the first visible surface.
     virtual Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, RayStats& stats, SampleAovs* aovs) const = 0;
     // Counters the integrator wants reported (records, photons, seconds spent in parts).

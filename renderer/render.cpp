@@ -87,7 +87,21 @@ void Renderer::reset() {
 
 bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* cancel) {
     if (!preprocess(cancel)) return false;
+    // Integrators that hold state per sample index take the pass in chunks; a cancel discards
+    // only the chunk it cut (the ones before are complete passes of their own).
+    const int most = integrator_->maxSamplesPerPass();
+    if (most > 0 && count > most) {
+        for (int done = 0; done < count; done += most)
+            if (!renderPass(firstSample + done, std::min(most, count - done), cancel)) return false;
+        return true;
+    }
     auto start = Clock::now();
+    {
+        PreprocessContext context{scene_, camera_, settings_.width, settings_.height, settings_.seed, cancel};
+        tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
+        arena.execute([&] { integrator_->beginPass(context, firstSample, count); });
+        if (cancel && cancel->load()) return false;
+    }
     int w = settings_.width, h = settings_.height;
     int tilesX = (w + kTileSize - 1) / kTileSize, tilesY = (h + kTileSize - 1) / kTileSize;
     int tileCount = tilesX * tilesY;

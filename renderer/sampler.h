@@ -94,6 +94,7 @@ public:
         return {uintToUnitFloat(x), uintToUnitFloat(y)};
     }
     float get1D() { return get2D().x; }
+    uint32_t sampleIndex() const { return sampleIndex_; }  // the camera sample (or stream index) started
 
     // An independent stream for work that is not per pixel (photons, cache records).
     void startStream(uint32_t stream, uint32_t index) {

@@ -10,6 +10,7 @@
 #include "path.h"
 #include "photon_final_gather.h"
 #include "photon_irradiance_cache.h"
+#include "progressive_photon_map.h"
 
 namespace gi {
 
@@ -153,6 +154,26 @@ std::vector<IntegratorInfo> buildRegistry() {
         return std::make_unique<PhotonMapIrradianceCacheIntegrator>(s);
     };
     list.push_back(photonCache);
+    IntegratorInfo progressive{
+        "progressivePhotonMap",
+        "progressive photon mapping (stochastic PPM, Knaus-Zwicker form): a new photon map every sample, radii shrinking; "
+        "consistent, converges to the right image with samples",
+        {intParam("photonsPerPass", 200000, 1, 1e12, "photons traced for each sample's photon map"),
+         ParamInfo{"initialRadius", "float", 4, 0.01, 1e6, "density-estimate radius of the first sample, in pixel footprints"},
+         ParamInfo{"alpha", "float", 2.0 / 3, 0.01, 1, "radius reduction: r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1)"},
+         kPhotonDepth, kRayDepth, kLightSamples},
+        nullptr};
+    progressive.create = [info = progressive](const ParamSet& p) -> std::unique_ptr<Integrator> {
+        ProgressivePhotonMapSettings s;
+        s.photonsPerPass = paramValue(info, p, "photonsPerPass");
+        s.initialRadius = float(paramValue(info, p, "initialRadius"));
+        s.alpha = float(paramValue(info, p, "alpha"));
+        s.photonDepth = int(paramValue(info, p, "photonDepth"));
+        s.rayDepth = int(paramValue(info, p, "rayDepth"));
+        s.lightSamples = int(paramValue(info, p, "lightSamples"));
+        return std::make_unique<ProgressivePhotonMapIntegrator>(s);
+    };
+    list.push_back(progressive);
     for (IntegratorInfo& info : list) info.params.push_back(kSampleClamp);
     return list;
 }

@@ -19,7 +19,8 @@ ROOM = ROOT / "scenes" / "window_room" / "window_room.usda"
 SIZE = (64, 48)
 REFERENCE_SPP = 2048   # mean's relative noise ~0.2% (two 1024-spp halves differ by < 0.5%)
 SPP = 8
-TECHNIQUES = ["irradianceCache", "adaptiveIrradianceCache", "photonMapIrradianceCache", "photonMapFinalGather"]
+TECHNIQUES = ["irradianceCache", "adaptiveIrradianceCache", "photonMapIrradianceCache", "photonMapFinalGather",
+              "progressivePhotonMap"]
 
 
 @pytest.fixture(scope="module")

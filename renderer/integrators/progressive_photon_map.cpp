@@ -1,0 +1,91 @@
+#include "progressive_photon_map.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "photon_maps.h"
+#include "photon_tracer.h"
+#include "seen_surfaces.h"
+
+namespace gi {
+
+namespace {
+constexpr uint32_t kPassStream = 0x5990000u;  // + sample index: one photon stream per iteration
+// Density estimates take every photon within the radius; past this many (a dense caustic at
+// an early iteration) the k nearest, whose radius is smaller still.
+constexpr int kMaxLookupPhotons = 512;
+using Clock = std::chrono::steady_clock;
+}  // namespace
+
+ProgressivePhotonMapIntegrator::ProgressivePhotonMapIntegrator(const ProgressivePhotonMapSettings& settings)
+    : DirectIntegrator(settings.rayDepth, settings.lightSamples), settings_(settings) {}
+
+float ProgressivePhotonMapIntegrator::radiusScale(uint32_t sampleIndex, float alpha) {
+    // prod_{k=1}^{i-1} (k + alpha) / (k + 1) = Gamma(i + alpha) / (Gamma(1 + alpha) Gamma(i + 1)).
+    double i = double(sampleIndex) + 1;
+    double logScale2 = std::lgamma(i + alpha) - std::lgamma(1 + double(alpha)) - std::lgamma(i + 1);
+    return float(std::exp(0.5 * logScale2));
+}
+
+void ProgressivePhotonMapIntegrator::preprocess(const PreprocessContext& context) {
+    seed_ = context.seed;
+    footprint_ = PixelFootprint::of(context.camera, context.width, context.height);
+    const Scene& scene = context.scene;
+    if (scene.lights().empty()) {
+        scene.warn("progressivePhotonMap: the scene has no light to emit photons; only emission is rendered");
+        return;
+    }
+    SeenSurfaces seen = SeenSurfaces::trace(scene, context.camera, context.width, context.height, settings_.rayDepth,
+                                            context.seed);
+    uint32_t pilot = std::clamp<uint32_t>(uint32_t(std::min(settings_.photonsPerPass, 1e9)) / 8, 4096, 65536);
+    emitters_ = choosePhotonEmitters(scene, seen, pilot, settings_.photonDepth, context.seed);
+}
+
+void ProgressivePhotonMapIntegrator::beginPass(const PreprocessContext& context, int firstSample, int count) {
+    auto start = Clock::now();
+    firstSample_ = firstSample;
+    maps_.assign(size_t(std::max(0, count)), PhotonMap());
+    radiusScales_.resize(maps_.size());
+    uint32_t photons = uint32_t(std::clamp(settings_.photonsPerPass, 1.0, kMaxPhotonsPerMap));
+    PhotonTracer tracer(context.scene, emitters_.distribution, context.seed);
+    PhotonTraceSettings trace;
+    trace.maxBounces = settings_.photonDepth;
+    trace.keepDirect = false;  // light sampling has it
+    for (int i = 0; i < count; ++i) {
+        uint32_t sample = uint32_t(firstSample + i);
+        radiusScales_[size_t(i)] = radiusScale(sample, settings_.alpha);
+        if (emitters_.empty()) continue;
+        PhotonTracer::Counters counters;
+        std::vector<Photon> stored = tracer.tracePass(kPassStream + sample, photons, trace, counters, context.cancel);
+        photonsTraced_ += photons;
+        photonsStored_ += stored.size();
+        photonsAtDepthCap_ += counters.depthCapped.load();
+        maps_[size_t(i)].build(std::move(stored));
+    }
+    passes_++;
+    photonSeconds_ += std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+Color ProgressivePhotonMapIntegrator::indirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler,
+                                               RayStats&) const {
+    size_t iteration = size_t(sampler.sampleIndex() - uint32_t(firstSample_));
+    if (iteration >= maps_.size() || maps_[iteration].empty()) return Color(0.0f);
+    float radius = settings_.initialRadius * footprint_.at(sp.si.p) * radiusScales_[iteration];
+    lookups_.fetch_add(1, std::memory_order_relaxed);
+    return maps_[iteration].radiance(sp, scene, kMaxLookupPhotons, radius).value;
+}
+
+std::map<std::string, double> ProgressivePhotonMapIntegrator::statistics() const {
+    std::map<std::string, double> s;
+    s["photonsTraced"] = double(photonsTraced_);
+    s["photonsStored"] = double(photonsStored_);
+    s["photonsAtDepthCap"] = double(photonsAtDepthCap_);
+    s["photonPasses"] = passes_;
+    s["photonSeconds"] = photonSeconds_;
+    s["photonLookups"] = double(lookups_.load());
+    s["photonLightsSkipped"] = double(emitters_.skipped.size());
+    s["lastRadiusScale"] = radiusScales_.empty() ? 1.0 : radiusScales_.back();
+    return s;
+}
+
+}  // namespace gi
