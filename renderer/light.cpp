@@ -259,10 +259,33 @@ public:
     Color radiance(const Vec3& wi) const override {
         return !delta_ && dot(wi, frame_.n) >= cosMax_ ? L_ : Color(0);
     }
-    Color power(const SceneBounds& b) const override { return E_ * (kPi * b.radius * b.radius); }
+    Color power(const SceneBounds& b) const override {
+        return portals_ ? E_ * projectedPortalArea_ : E_ * (kPi * b.radius * b.radius);
+    }
+    void setPortals(std::shared_ptr<const PortalSet> portals) override {
+        portals_ = std::move(portals);
+        std::vector<float> weights;
+        projectedPortalArea_ = 0;
+        for (const Portal& p : portals_->portals()) {
+            weights.push_back(p.area * std::max(0.0f, dot(-frame_.n, p.travel)));
+            projectedPortalArea_ += weights.back();
+        }
+        byProjectedArea_ = Distribution1D(weights.data(), int(weights.size()));
+    }
     PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds& b) const override {
-        // Photons start on a disc facing the light just outside the scene's bounding sphere.
         Vec3 dir = delta_ ? frame_.n : frame_.toWorld(sampleUniformCone(uDir, cosMax_));
+        if (portals_) {
+            // From a portal, picked by its area projected towards the sun: E cos A / pdf.
+            PhotonEmission e;
+            e.ray.d = -dir;
+            e.power = Color(0.0f);
+            float pdfArea;
+            int i = portals_->samplePoint(byProjectedArea_, uPos, &e.ray.o, &pdfArea);
+            float cosine = i < 0 ? 0 : dot(-dir, portals_->portals()[size_t(i)].travel);
+            if (cosine > 0 && pdfArea > 0) e.power = E_ * (cosine / pdfArea);
+            return e;
+        }
+        // Photons start on a disc facing the light just outside the scene's bounding sphere.
         Frame f(dir);
         Vec2 d = sampleConcentricDisk(uPos);
         PhotonEmission e;
@@ -277,6 +300,9 @@ private:
     Color E_, L_;
     float cosMax_ = 1;
     bool delta_ = true;
+    std::shared_ptr<const PortalSet> portals_;
+    Distribution1D byProjectedArea_;
+    float projectedPortalArea_ = 0;
 };
 
 class DomeLight : public Light {
@@ -287,9 +313,14 @@ public:
         if (image_) buildDistribution();
     }
     bool isInfinite() const override { return true; }
-    LightSample sample(const Vec3&, Vec2 u) const override {
+    LightSample sample(const Vec3& ref, Vec2 u) const override {
         LightSample ls;
         ls.distance = kInf;
+        if (portals_ && portals_->guides(ref)) {
+            if (portals_->sampleDirection(ref, u, &ls.wi, &ls.pdf)) ls.Li = radiance(ls.wi);
+            else ls.pdf = 0;
+            return ls;
+        }
         if (!image_) {
             ls.wi = sampleUniformSphere(u);
             ls.pdf = uniformSpherePdf();
@@ -309,7 +340,11 @@ public:
         ls.Li = lookup(s, t);
         return ls;
     }
-    float pdf(const Vec3&, const Vec3& wi, float) const override {
+    float pdf(const Vec3& ref, const Vec3& wi, float) const override {
+        if (portals_ && portals_->guides(ref)) return portals_->pdf(ref, wi);
+        return directionPdf(wi);
+    }
+    float directionPdf(const Vec3& wi) const {
         if (!image_) return uniformSpherePdf();
         float s, t;
         toST(wi, s, t);
@@ -326,9 +361,24 @@ public:
         return lookup(s, t);
     }
     Color power(const SceneBounds& b) const override {
-        return average_ * (4 * kPi * kPi * b.radius * b.radius);
+        // Through portals: the flux of a sky of the mean radiance through their area, pi L A.
+        return portals_ ? average_ * (kPi * portals_->totalArea()) : average_ * (4 * kPi * kPi * b.radius * b.radius);
     }
+    void setPortals(std::shared_ptr<const PortalSet> portals) override { portals_ = std::move(portals); }
     PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds& b) const override {
+        if (portals_) {
+            // From a portal picked by area, towards the interior, cosine-distributed about the
+            // portal's direction: L(wi) cos / (cos / pi) / pdfArea.
+            PhotonEmission e;
+            e.power = Color(0.0f);
+            float pdfArea;
+            int i = portals_->samplePoint(portals_->byArea(), uPos, &e.ray.o, &pdfArea);
+            if (i < 0 || !(pdfArea > 0)) return e;
+            Vec3 travel = portals_->portals()[size_t(i)].travel;
+            e.ray.d = Frame(travel).toWorld(sampleCosineHemisphere(uDir));
+            e.power = radiance(-e.ray.d) * (kPi / pdfArea);
+            return e;
+        }
         LightSample ls = sample(b.center, uDir);
         Frame f(ls.wi);
         Vec2 d = sampleConcentricDisk(uPos);
@@ -389,6 +439,7 @@ private:
     }
 
     Mat4 toWorld_, toLocal_;
+    std::shared_ptr<const PortalSet> portals_;
     Color scale_;
     Color average_{0.0f};
     std::shared_ptr<Image> image_;

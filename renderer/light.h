@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "math.h"
+#include "portal.h"
 #include "sampling.h"
 #include "texture.h"
 
@@ -14,7 +15,7 @@ namespace gi {
 
 struct LightDesc {
     std::string name;
-    std::string kind = "rect";  // rect | disk | sphere | cylinder | distant | dome
+    std::string kind = "rect";  // rect | disk | sphere | cylinder | distant | dome | portal
     Color color{1.0f};
     float intensity = 1;
     float exposure = 0;
@@ -60,6 +61,8 @@ public:
     virtual PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&) const = 0;
     virtual bool isInfinite() const { return false; }
     virtual void preprocess(const SceneBounds& bounds) { bounds_ = bounds; }
+    // Portals over the openings an infinite light shines through (portal.h); others ignore them.
+    virtual void setPortals(std::shared_ptr<const PortalSet>) {}
 
     std::string name;
     bool visibleToCamera = true;

@@ -101,6 +101,7 @@ public:
     struct Stats {
         size_t triangles = 0, spheres = 0, instances = 0, prototypes = 0, lights = 0, emissiveTriangles = 0;
         size_t textureBytes = 0, textures = 0;
+        size_t portals = 0;  // portal lights in use (portal.h)
         size_t texturesRead = 0;  // of `textures`, read from disk (the rest came from a shared ImageCache)
         double buildSeconds = 0;
     };
@@ -141,6 +142,7 @@ private:
     };
 
     void buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, int shapeId);
+    bool makePortal(const LightDesc& desc, Portal& portal) const;
     void buildLights();
     void buildLightBvh();
     // The nearest analytic light (rect, disk, sphere, cylinder) along `ray` before its tMax.

@@ -10,7 +10,7 @@ from . import descriptors
 
 LIGHT_KINDS = {"RectLight": "rect", "DiskLight": "disk", "SphereLight": "sphere",
                "CylinderLight": "cylinder", "DistantLight": "distant", "DomeLight": "dome",
-               "DomeLight_1": "dome"}
+               "DomeLight_1": "dome", "PortalLight": "portal"}
 
 # LightDesc field -> (UsdLux input, kind). Unauthored inputs take the schema's fallback.
 COMMON_INPUTS = {"color": ("color", "color"), "intensity": ("intensity", "float"),
@@ -22,6 +22,7 @@ SHAPE_INPUTS = {
     "cylinder": {"radius": "radius", "length": "length"},
     "distant": {"angle": "angle"},
     "dome": {},
+    "portal": {"width": "width", "height": "height"},
 }
 
 

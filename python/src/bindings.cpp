@@ -206,7 +206,7 @@ void bindScene(nb::module_& m) {
                                             {"emissive_triangles", double(st.emissiveTriangles)},
                                             {"textures", double(st.textures)},
                                             {"texture_bytes", double(st.textureBytes)},
-                                            {"textures_read", double(st.texturesRead)},
+                                            {"textures_read", double(st.texturesRead)}, {"portals", double(st.portals)},
                                             {"build_seconds", st.buildSeconds},
                                             {"committed", s.committed() ? 1.0 : 0.0},
                                             {"specular_surfaces", s.hasSpecularSurfaces() ? 1.0 : 0.0}};

@@ -4,6 +4,7 @@
 // share of the sky (a cosine-weighted shadow-ray estimate, independent of the photon code).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "renderer/integrators/photon_maps.h"
@@ -109,10 +110,24 @@ TEST(PhotonEmission, SunAndSkyOnAnOpenPlane) {
     EXPECT_NEAR(photon, expected, 0.02 * expected);
 }
 
+// The box's open top, 1 cm above it; light passes downwards (its -Z), or, `upsideDown`, upwards.
+LightDesc portalOverTheBox(bool upsideDown = false) {
+    LightDesc portal;
+    portal.name = "/Portal";
+    portal.kind = "portal";
+    portal.width = portal.height = 2;
+    // Local Z onto world +Y, local Y onto -Z (rows: the x, y, z axes, then the translation).
+    float s = upsideDown ? -1.0f : 1.0f;
+    portal.transform.m[1][1] = 0, portal.transform.m[1][2] = -s;
+    portal.transform.m[2][1] = s, portal.transform.m[2][2] = 0;
+    portal.transform.m[3][1] = 1.01f;
+    return portal;
+}
+
 // A half-open box (floor and four black walls, no roof): the walls shade part of the sky and,
 // on one side, the sun; black walls store no photons and reflect nothing, so the floor's
 // irradiance is the lights' alone.
-TEST(PhotonEmission, SunAndSkyInAHalfOpenBox) {
+void halfOpenBoxUnderSunAndSky(bool portal) {
     Scene scene;
     int grey = scene.addMaterial(lambert(Color(0.5f)));
     int black = scene.addMaterial(lambert(Color(0.0f)));
@@ -122,11 +137,51 @@ TEST(PhotonEmission, SunAndSkyInAHalfOpenBox) {
     addQuad(scene, "/WallC", {-1, 0, -1}, {-1, 1, -1}, {-1, 1, 1}, {-1, 0, 1}, black);
     addQuad(scene, "/WallD", {1, 0, -1}, {1, 0, 1}, {1, 1, 1}, {1, 1, -1}, black);
     addSunAndSky(scene);
+    if (portal) scene.addLight(portalOverTheBox());
     scene.setCamera(lookingDownFrom(3));
-    PhotonMaps maps = tracePhotons(scene, 2e6);
+    PhotonMaps maps = tracePhotons(scene, portal ? 2e5 : 2e6);
+    EXPECT_EQ(scene.stats().portals, portal ? 1u : 0u);
     // Points at least 0.4 from the walls, beyond the estimates' disc radius (~0.1 here).
     auto [photon, expected] = compare(scene, maps, 0.6f, 200);
     double open = kSunIrradiance * kToSun.y + kPi * kSkyRadiance;
     EXPECT_LT(expected, 0.9 * open);  // the walls do shade the floor
     EXPECT_NEAR(photon, expected, 0.02 * expected);
+}
+
+TEST(PhotonEmission, SunAndSkyInAHalfOpenBox) { halfOpenBoxUnderSunAndSky(false); }
+
+// The same box with a portal over its opening: every photon starts on the portal (a tenth of the
+// photons give the same density on the floor), and the irradiance is the same.
+TEST(PhotonEmission, SunAndSkyThroughAPortal) { halfOpenBoxUnderSunAndSky(true); }
+
+// Bad portals warn, naming the prim, and are left out (the scene renders as without them).
+TEST(PhotonEmission, BadPortalsWarnAndAreIgnored) {
+    auto build = [](LightDesc portal, bool dome) {
+        Scene scene;
+        int grey = scene.addMaterial(lambert(Color(0.5f)));
+        addQuad(scene, "/Floor", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, grey);
+        addQuad(scene, "/WallA", {-1, 0, -1}, {1, 0, -1}, {1, 1, -1}, {-1, 1, -1}, grey);
+        if (dome) addSunAndSky(scene);
+        scene.addLight(portal);
+        scene.commit();
+        return std::make_pair(scene.stats().portals, scene.warnings());
+    };
+    auto warnedAbout = [](const std::vector<std::string>& warnings, const std::string& text) {
+        return std::any_of(warnings.begin(), warnings.end(), [&](const std::string& w) {
+            return w.find("/Portal") != std::string::npos && w.find(text) != std::string::npos;
+        });
+    };
+    auto [good, goodWarnings] = build(portalOverTheBox(), true);
+    EXPECT_EQ(good, 1u);
+    auto [wrongWay, wrongWayWarnings] = build(portalOverTheBox(true), true);
+    EXPECT_EQ(wrongWay, 0u);
+    EXPECT_TRUE(warnedAbout(wrongWayWarnings, "faces the wrong way"));
+    LightDesc flat = portalOverTheBox();
+    flat.width = 0;
+    auto [zero, zeroWarnings] = build(flat, true);
+    EXPECT_EQ(zero, 0u);
+    EXPECT_TRUE(warnedAbout(zeroWarnings, "zero size"));
+    auto [noDome, noDomeWarnings] = build(portalOverTheBox(), false);
+    EXPECT_EQ(noDome, 0u);
+    EXPECT_TRUE(warnedAbout(noDomeWarnings, "no dome light"));
 }

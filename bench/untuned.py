@@ -1,0 +1,84 @@
+"""Every technique on the untuned scenes of issue 15, at equal time, against a converged reference.
+
+Scenes: the glazed-window room with its sun and sky (all light through a 6 mm pane), the same room
+under the sky alone, Sponza under sun and sky, Sibenik under sun and sky through its window glass.
+For each: a reference (the path tracer, unbounded depth, for --reference-seconds; or, where a sun is
+seen only through glass and no path tracer converges, --glass-reference progressivePhotonMap, the
+consistent photon technique, checked against the path tracer on the sky-only room), then every
+technique at its defaults with a --seconds time limit. Printed per scene and technique: the seconds
+actually spent, mean / reference, RMSE on sRGB8, mean FLIP, the local-outlier share (8x8 blocks
+beyond 4 sigma of the path tracer's block noise at the same time; gi.metrics.local_outlier_share)
+and the records or photons. Figures are from one run on a shared machine: compare within a table.
+
+    .venv/bin/python bench/untuned.py [--scenes room,room-sky,sponza,sibenik] [--resolution 128 96]
+        [--seconds 5] [--reference-seconds 120] [--integrators path,irradianceCache,...]
+"""
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+
+SKY_ONLY = ('#usda 1.0\n(\n    subLayers = [@{room}@]\n    renderSettingsPrimPath = "/Render/Settings"\n)\n'
+            'over "World"\n{{\n    over "Sun" (active = false)\n    {{\n    }}\n}}\n')
+SCENES = {"room": (ROOT / "scenes/window_room/window_room.usda", True),
+          "room-sky": (None, False),
+          "sponza": (ROOT / "scenes/sponza/sponza.usda", False),
+          "sibenik": (ROOT / "scenes/sibenik/sibenik_sky.usda", True)}
+TECHNIQUES = ["path", "irradianceCache", "adaptiveIrradianceCache", "photonMapIrradianceCache",
+              "photonMapFinalGather", "progressivePhotonMap"]
+COUNTS = ["records", "globalMapPhotons", "causticMapPhotons", "photonsStored"]
+
+
+def render(loaded, integrator, resolution, spp, seconds, seed=1):
+    from gi import _core
+    s = _core.RenderSettings()
+    s.width, s.height = resolution
+    s.integrator, s.spp, s.seed, s.time_limit = integrator, spp, seed, seconds
+    start = time.perf_counter()
+    result = _core.render(loaded.scene, s)
+    return np.asarray(result.color), result.stats, time.perf_counter() - start
+
+
+def main():
+    from gi import metrics
+    from gi.loader import load_stage
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scenes", default="room,room-sky,sponza,sibenik")
+    parser.add_argument("--resolution", type=int, nargs=2, default=(128, 96))
+    parser.add_argument("--seconds", type=float, default=5.0)
+    parser.add_argument("--reference-seconds", type=float, default=120.0)
+    parser.add_argument("--glass-reference", default="progressivePhotonMap")
+    parser.add_argument("--integrators", default=",".join(TECHNIQUES))
+    args = parser.parse_args()
+    resolution = tuple(args.resolution)
+    for name in args.scenes.split(","):
+        path, glass = SCENES[name]
+        if name == "room-sky":
+            path = Path("/tmp") / f"gi-bench-room-sky-{id(args)}.usda"
+            path.write_text(SKY_ONLY.format(room=SCENES["room"][0]))
+        loaded = load_stage(str(path))
+        ref_integrator = args.glass_reference if glass else "path"
+        reference, ref_stats, ref_wall = render(loaded, ref_integrator, resolution, 1 << 24, args.reference_seconds,
+                                                seed=1000)
+        path_a, _, _ = render(loaded, "path", resolution, 1 << 24, args.seconds, seed=11)
+        path_b, _, _ = render(loaded, "path", resolution, 1 << 24, args.seconds, seed=12)
+        sigma = metrics.block_noise(path_a, path_b)
+        print(f"\n## {name} ({path.name}), {resolution[0]}x{resolution[1]}: reference {ref_integrator} "
+              f"{int(ref_stats['spp'])} spp in {ref_wall:.0f} s, mean {reference.mean():.5f}")
+        print("| technique | seconds | spp | mean / ref | RMSE sRGB8 | FLIP | outlier blocks | records / photons |")
+        print("|---|---|---|---|---|---|---|---|")
+        for integrator in args.integrators.split(","):
+            image, stats, wall = render(loaded, integrator, resolution, 1 << 24, args.seconds)
+            m = metrics.compare(image, reference)
+            counts = ", ".join(f"{k} {int(stats[k])}" for k in COUNTS if k in stats)
+            print(f"| {integrator} | {wall:.1f} | {int(stats['spp'])} | {image.mean() / reference.mean():.3f} | "
+                  f"{m.rmse_srgb8:.2f} | {m.flip:.4f} | {metrics.local_outlier_share(image, reference, sigma):.3f} | "
+                  f"{counts} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,70 @@
+#include "portal.h"
+
+namespace gi {
+
+float Portal::intersect(const Vec3& o, const Vec3& d) const {
+    Vec3 n = cross(e1, e2);
+    float denom = dot(d, n);
+    if (!(std::fabs(denom) > 0)) return kInf;
+    float t = dot(corner - o, n) / denom;
+    if (!(t > 0)) return kInf;
+    Vec3 q = o + d * t - corner;
+    float s = dot(q, e1) / dot(e1, e1), v = dot(q, e2) / dot(e2, e2);
+    return s >= 0 && s <= 1 && v >= 0 && v <= 1 ? t : kInf;
+}
+
+PortalSet::PortalSet(std::vector<Portal> portals) : portals_(std::move(portals)) {
+    std::vector<float> areas;
+    for (const Portal& p : portals_) {
+        areas.push_back(p.area);
+        totalArea_ += p.area;
+    }
+    if (!areas.empty()) byArea_ = Distribution1D(areas.data(), int(areas.size()));
+}
+
+bool PortalSet::guides(const Vec3& p) const {
+    if (portals_.empty()) return false;
+    for (const Portal& portal : portals_)
+        if (!portal.behind(p)) return false;
+    return true;
+}
+
+bool PortalSet::sampleDirection(const Vec3& p, Vec2 u, Vec3* wi, float* pdfOut) const {
+    float pmf, ux;
+    int i = byArea_.sample(u.x, &pmf, &ux);
+    if (i < 0 || !(pmf > 0)) return false;
+    const Portal& portal = portals_[size_t(i)];
+    Vec3 q = portal.corner + portal.e1 * ux + portal.e2 * u.y;
+    Vec3 d = q - p;
+    float distance2 = lengthSquared(d);
+    if (!(distance2 > 0)) return false;
+    *wi = d / std::sqrt(distance2);
+    *pdfOut = pdf(p, *wi);
+    return *pdfOut > 0;
+}
+
+float PortalSet::pdf(const Vec3& p, const Vec3& wi) const {
+    float total = 0;
+    for (size_t i = 0; i < portals_.size(); ++i) {
+        const Portal& portal = portals_[i];
+        float t = portal.intersect(p, wi);
+        if (!std::isfinite(t)) continue;
+        float cosine = std::fabs(dot(wi, portal.travel));
+        if (!(cosine > 1e-6f)) continue;
+        total += byArea_.pmf(int(i)) * t * t / (portal.area * cosine);
+    }
+    return total;
+}
+
+int PortalSet::samplePoint(const Distribution1D& weights, Vec2 u, Vec3* point, float* pdfArea) const {
+    float pmf, ux;
+    if (weights.size() != int(portals_.size()) || !(weights.total() > 0)) return -1;
+    int i = weights.sample(u.x, &pmf, &ux);
+    if (i < 0 || !(pmf > 0)) return -1;
+    const Portal& portal = portals_[size_t(i)];
+    *point = portal.corner + portal.e1 * ux + portal.e2 * u.y;
+    *pdfArea = pmf / portal.area;
+    return i;
+}
+
+}  // namespace gi

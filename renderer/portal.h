@@ -1,0 +1,59 @@
+// UsdLux PortalLight: a rectangle over an opening (a window) through which a dome light and a
+// sun shine into an interior; light passes it along its -Z. As in Cycles, Karma and RenderMan:
+// - next-event estimation of the dome from a point on the interior side of every portal samples
+//   the portals (uniform by area, converted to solid angle) instead of the whole sphere; other
+//   points sample the dome as before. BSDF-sampled rays still find the sky anywhere (MIS), so
+//   the path tracer stays unbiased even where the portals do not cover every opening;
+// - photons of dome and distant lights start on the portals instead of a disc over the whole
+//   scene, so all of them enter the interior. That assumes the portals cover every opening the
+//   light comes through (light through others is not emitted as photons), as in Karma.
+// A portal is a rectangle: corner + s e1 + t e2, s, t in [0, 1); `travel` is its unit -Z.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "math.h"
+#include "sampling.h"
+
+namespace gi {
+
+struct Portal {
+    std::string name;
+    Vec3 corner, e1, e2, travel;
+    float area = 0;
+    Vec3 center() const { return corner + e1 * 0.5f + e2 * 0.5f; }
+    // Whether p lies on the side the light travels to (the interior).
+    bool behind(const Vec3& p) const { return dot(p - center(), travel) > 0; }
+    // Distance along d from o to the portal's rectangle, or inf.
+    float intersect(const Vec3& o, const Vec3& d) const;
+};
+
+class PortalSet {
+public:
+    PortalSet() = default;
+    explicit PortalSet(std::vector<Portal> portals);
+    bool empty() const { return portals_.empty(); }
+    const std::vector<Portal>& portals() const { return portals_; }
+    float totalArea() const { return totalArea_; }
+
+    // Whether next-event estimation from p goes through the portals: p is behind every one.
+    bool guides(const Vec3& p) const;
+    // A direction from p through a portal chosen by area (u.x picks it, then is reused); its
+    // solid-angle pdf (the sum over every portal the ray crosses). False if none was found.
+    bool sampleDirection(const Vec3& p, Vec2 u, Vec3* wi, float* pdf) const;
+    float pdf(const Vec3& p, const Vec3& wi) const;
+
+    // Photon origins: a portal picked by `weights` (one per portal; e.g. area or projected area
+    // towards the sun) with u.x, then a uniform point on it (u.x reused). Returns the portal's
+    // index, or -1; pdfArea is the point's density per unit area.
+    int samplePoint(const Distribution1D& weights, Vec2 u, Vec3* point, float* pdfArea) const;
+    const Distribution1D& byArea() const { return byArea_; }
+
+private:
+    std::vector<Portal> portals_;
+    Distribution1D byArea_;
+    float totalArea_ = 0;
+};
+
+}  // namespace gi
