@@ -104,6 +104,7 @@ std::map<std::string, double> IrradianceCacheIntegrator::statistics() const {
     double recordSeconds = (preprocessRecords_.nanoseconds.load() + renderRecords_.nanoseconds.load()) * 1e-9;
     return {
         {"records", double(cache_.size())},
+        {"recordSamplesClamped", double(recordSampler_.outliersClamped())},
         {"preprocessRecords", double(preprocessRecords_.records.load())},
         {"renderTimeRecords", double(renderRecords_.records.load())},
         {"recordRays", double(preprocessRecords_.rays.load() + renderRecords_.rays.load())},

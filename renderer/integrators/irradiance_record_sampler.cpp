@@ -1,5 +1,7 @@
 #include "irradiance_record_sampler.h"
 
+#include "record_outliers.h"
+
 #include <bit>
 #include <vector>
 
@@ -100,13 +102,14 @@ IrradianceRecord IrradianceRecordSampler::sample(const Scene& scene, const Recor
             Color Li = bouncedRadiance(scene, origin, wi, sampler, stats, &distance);
             if (!isFinite(Li)) Li = Color(0.0f);  // one broken path must not poison a whole region
             L[c] = vmax(Li, Color(0.0f));
-            sum += L[c];
             if (std::isfinite(distance)) {
                 R[c] = std::max(distance, rMinus);
                 inverseDistanceSum += 1.0 / R[c];
                 minDistance = std::min(minDistance, R[c]);
             }
         }
+    outliersClamped_.fetch_add(uint64_t(clampRecordOutliers(L)), std::memory_order_relaxed);
+    for (const Color& l : L) sum += l;
     const float cellWeight = kPi / cells;  // cosine-weighted estimator: E = pi / (M N) sum L
     record.E = sum * cellWeight;
     record.harmonicMeanDistance = inverseDistanceSum > 0 ? float(cells / inverseDistanceSum) : kInf;

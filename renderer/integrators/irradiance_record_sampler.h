@@ -2,6 +2,7 @@
 // stratified into M x N cells of equal projected area, the cell layout that the Ward & Heckbert
 // gradients (2.29, 2.30) are defined on.
 #pragma once
+#include <atomic>
 #include "irradiance_record.h"
 #include "path.h"
 
@@ -43,6 +44,8 @@ public:
     bool gathersLight() const { return settings_.pathDepth >= 2; }
     const HemisphereLayout& layout() const { return layout_; }
     const RecordSettings& settings() const { return settings_; }
+    // Hemisphere samples clamped as outliers (record_outliers.h) so far.
+    uint64_t outliersClamped() const { return outliersClamped_.load(std::memory_order_relaxed); }
 
     // Samples the hemisphere above `site`. The random numbers come from stream `streamKey` of
     // a sampler seeded with `seed`, cell c using the stream's sample c, so a record depends on
@@ -62,6 +65,7 @@ private:
 
     RecordSettings settings_;
     HemisphereLayout layout_;
+    mutable std::atomic<uint64_t> outliersClamped_{0};
     PathIntegrator continuation_;  // paths from a hemisphere ray's first hit onwards
 };
 

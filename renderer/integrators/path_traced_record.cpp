@@ -1,5 +1,7 @@
 #include "path_traced_record.h"
 
+#include "record_outliers.h"
+
 namespace gi {
 
 PathTracedRecordSampler::PathTracedRecordSampler(const RecordSettings& settings, bool leaveOutCaustics)
@@ -52,7 +54,7 @@ IrradianceRecord PathTracedRecordSampler::sample(const Scene& scene, const Recor
     const float rMinus = std::max(settings_.minSpacing * site.footprint, 1e-6f * (1 + length(site.p)));
     const float rPlus = std::max(settings_.maxSpacing, settings_.minSpacing) * site.footprint;
     Sampler sampler(seed);
-    Color sum(0.0f);
+    std::vector<Color> samples(size_t(M * N), Color(0.0f));
     float minDistance = kInf;
     for (int j = 0; j < M; ++j)
         for (int k = 0; k < N; ++k) {
@@ -64,9 +66,12 @@ IrradianceRecord PathTracedRecordSampler::sample(const Scene& scene, const Recor
             Vec3 wi = frame.toWorld(Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
             float distance;
             Color L = bouncedRadiance(scene, origin, wi, sampler, stats, &distance);
-            if (isFinite(L)) sum += vmax(L, Color(0.0f));  // one broken path must not poison a region
+            if (isFinite(L)) samples[size_t(j * N + k)] = vmax(L, Color(0.0f));  // one broken path must not poison a region
             minDistance = std::min(minDistance, std::max(distance, rMinus));
         }
+    outliersClamped_.fetch_add(uint64_t(clampRecordOutliers(samples)), std::memory_order_relaxed);
+    Color sum(0.0f);
+    for (const Color& l : samples) sum += l;
     IrradianceRecord record;
     record.p = site.p;
     record.n = site.n;

@@ -22,6 +22,8 @@ public:
     // the stream's sample c, so a record depends on (seed, key, site) only.
     IrradianceRecord sample(const Scene& scene, const RecordSite& site, uint32_t seed, uint32_t streamKey,
                             RayStats& stats) const;
+    // Hemisphere samples clamped as outliers (record_outliers.h) so far.
+    uint64_t outliersClamped() const { return outliersClamped_.load(std::memory_order_relaxed); }
 
 private:
     // Radiance arriving from direction wi that has bounced off a non-specular surface at least
@@ -33,6 +35,7 @@ private:
     HemisphereLayout layout_;
     PathIntegrator continuation_;
     bool leaveOutCaustics_;
+    mutable std::atomic<uint64_t> outliersClamped_{0};
 };
 
 }  // namespace gi

@@ -148,6 +148,7 @@ Color PhotonMapIrradianceCacheIntegrator::indirect(const Scene& scene, const Sha
 std::map<std::string, double> PhotonMapIrradianceCacheIntegrator::statistics() const {
     std::map<std::string, double> stats = maps_.statistics;
     stats["records"] = double(cache_.size());
+    stats["recordSamplesClamped"] = recordSampler_ ? double(recordSampler_->outliersClamped()) : 0.0;
     stats["photonRecords"] = double(preprocessRecords_.photonRecords.load());
     stats["pathTracedRecords"] = double(preprocessRecords_.pathTracedRecords.load());
     stats["renderTimeRecords"] =

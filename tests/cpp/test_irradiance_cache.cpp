@@ -7,6 +7,7 @@
 
 #include "renderer/integrators/irradiance_cache_integrator.h"
 #include "renderer/integrators/progressive_fill.h"
+#include "renderer/integrators/record_outliers.h"
 #include "scenes.h"
 
 using namespace gi;
@@ -335,3 +336,37 @@ TEST_F(CornellBox, AdaptiveHasNoMoreDiscontinuities) {
 }
 
 }  // namespace
+
+// --- records robust to outliers (issue 15) --------------------------------------------------
+
+bool same(const std::vector<Color>& a, const std::vector<Color>& b) {
+    for (size_t i = 0; i < a.size(); ++i)
+        if (a[i].x != b[i].x || a[i].y != b[i].y || a[i].z != b[i].z) return false;
+    return a.size() == b.size();
+}
+
+TEST(RecordOutliers, ASunPathIsClampedAWindowIsNot) {
+    // 108 samples of indirect light ~0.05, five of which see a window at 0.9: untouched.
+    std::vector<Color> window(108, Color(0.05f));
+    for (int i = 0; i < 5; ++i) window[size_t(i * 20)] = Color(0.9f);
+    std::vector<Color> before = window;
+    EXPECT_EQ(clampRecordOutliers(window), 0);
+    EXPECT_TRUE(same(window, before));
+    // One path through the glass to the sun, 10^5 times brighter: clamped to 256x the mean of
+    // the samples without the brightest 2% (here the sun and one window sample), hue kept; the
+    // rest untouched.
+    std::vector<Color> sun = before;
+    sun[7] = Color(2e4f, 1.8e4f, 1.6e4f);
+    EXPECT_EQ(clampRecordOutliers(sun), 1);
+    double kept = -luminance(Color(0.9f));
+    for (size_t i = 0; i < sun.size(); ++i)
+        if (i != 7) kept += luminance(before[i]);
+    EXPECT_NEAR(luminance(sun[7]), kOutlierFactor * kept / 106, 1e-3 * luminance(sun[7]));
+    EXPECT_NEAR(sun[7].x / sun[7].z, 2e4f / 1.6e4f, 1e-4);
+    sun[7] = before[7];
+    EXPECT_TRUE(same(sun, before));
+    // A dark record (every sample 0) has nothing to compare with.
+    std::vector<Color> dark(108, Color(0.0f));
+    dark[3] = Color(1.0f);
+    EXPECT_EQ(clampRecordOutliers(dark), 0);
+}
