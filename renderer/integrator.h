@@ -48,6 +48,9 @@ private:
     std::map<std::string, double> values_;
 };
 
+// Seconds on the steady clock since its epoch: the unit of the renderer's deadlines.
+double steadySeconds();
+
 // What preprocessing may use: the scene, the view (for view-driven caches), threads and a seed.
 struct PreprocessContext {
     const Scene& scene;
@@ -55,6 +58,20 @@ struct PreprocessContext {
     int width, height;
     uint32_t seed;
     const std::atomic<bool>* cancel;
+    // A time-limited render's share for preprocessing: steadySeconds() by which it should be
+    // done; 0 = no limit. Work that can stop early (fill phases, refinement rounds) stops when
+    // it passes; work that has to be sized up front (photon counts) sizes itself to end by it.
+    double deadline = 0;
+    // Set by the renderer: counts the scaledDown() calls, for the render's statistics.
+    std::atomic<int>* scaledDownCount = nullptr;
+
+    bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
+    bool pastDeadline() const { return deadline > 0 && steadySeconds() >= deadline; }
+    // Seconds left before the deadline (infinity without one, 0 once passed).
+    double secondsLeft() const;
+    // Preprocessing did less than its parameters asked, to keep the time limit: warns through
+    // scene.warn ("time limit: " + what) and counts it in the render's statistics.
+    void scaledDown(const std::string& what) const;
 };
 
 class Integrator {

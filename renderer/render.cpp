@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 
 namespace gi {
@@ -14,6 +15,7 @@ namespace {
 constexpr int kTileSize = 16;
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+bool past(double deadline) { return deadline > 0 && steadySeconds() >= deadline; }
 
 CameraDesc defaultCamera(const Scene& scene) {
     // No camera: look at the scene's bounding sphere from +Z.
@@ -27,6 +29,17 @@ CameraDesc defaultCamera(const Scene& scene) {
     return c;
 }
 }  // namespace
+
+double steadySeconds() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
+
+double PreprocessContext::secondsLeft() const {
+    return deadline > 0 ? std::max(0.0, deadline - steadySeconds()) : std::numeric_limits<double>::infinity();
+}
+
+void PreprocessContext::scaledDown(const std::string& what) const {
+    scene.warn("time limit: " + what);
+    if (scaledDownCount) scaledDownCount->fetch_add(1, std::memory_order_relaxed);
+}
 
 size_t peakResidentMemoryBytes() {
     struct rusage usage;
@@ -64,13 +77,20 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
     camera_ = Camera(desc, settings.width, settings.height);
 }
 
-bool Renderer::preprocess(const std::atomic<bool>* cancel) {
+bool Renderer::preprocess(const std::atomic<bool>* cancel, double deadline) {
     if (preprocessed_) return true;
     auto start = Clock::now();
+    std::atomic<int> scaledDown{0};
     PreprocessContext context{scene_, camera_, settings_.width, settings_.height, settings_.seed, cancel};
+    if (deadline > 0) {
+        double now = steadySeconds();
+        context.deadline = now + kPreprocessShare * std::max(0.0, deadline - now);
+    }
+    context.scaledDownCount = &scaledDown;
     tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
     arena.execute([&] { integrator_->preprocess(context); });
     stats_.preprocessSeconds += secondsSince(start);
+    stats_.preprocessScaledDown += scaledDown.load();
     if (cancel && cancel->load()) {
         integrator_ = info_->create(settings_.params);  // a half-built cache must not be used
         return false;
@@ -86,21 +106,43 @@ void Renderer::reset() {
 }
 
 bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* cancel) {
-    if (!preprocess(cancel)) return false;
+    return renderPass(firstSample, count, 0.0, cancel) == PassEnd::Complete;
+}
+
+int Renderer::passSamplesBefore(double deadline, int wanted) const {
+    wanted = std::max(1, wanted);
+    if (deadline <= 0 || stats_.cameraSamples == 0 || !(stats_.renderSeconds > 0)) return wanted;
+    // Seconds per sample per pixel over the whole image, passes' overheads included.
+    double pixels = double(settings_.width) * settings_.height;
+    double secondsPerSpp = stats_.renderSeconds * pixels / double(stats_.cameraSamples);
+    double fit = (deadline - steadySeconds()) / secondsPerSpp;
+    return fit >= wanted ? wanted : std::max(1, int(fit));
+}
+
+PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const std::atomic<bool>* cancel) {
+    if (!preprocess(cancel, deadline)) return PassEnd::Cancelled;
     // Integrators that hold state per sample index take the pass in chunks; a cancel discards
-    // only the chunk it cut (the ones before are complete passes of their own).
+    // only the chunk it cut (the ones before are complete passes of their own), and so does a
+    // deadline.
     const int most = integrator_->maxSamplesPerPass();
     if (most > 0 && count > most) {
-        for (int done = 0; done < count; done += most)
-            if (!renderPass(firstSample + done, std::min(most, count - done), cancel)) return false;
-        return true;
+        for (int done = 0; done < count; done += most) {
+            PassEnd end = renderPass(firstSample + done, std::min(most, count - done), deadline, cancel);
+            if (end != PassEnd::Complete) return end;
+        }
+        return PassEnd::Complete;
+    }
+    if (past(deadline)) {  // no time for the pass's own setup either
+        stats_.partialPassPixels = 0;
+        stats_.partialPassSamples = count;
+        return PassEnd::Deadline;
     }
     auto start = Clock::now();
     {
         PreprocessContext context{scene_, camera_, settings_.width, settings_.height, settings_.seed, cancel};
         tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
         arena.execute([&] { integrator_->beginPass(context, firstSample, count); });
-        if (cancel && cancel->load()) return false;
+        if (cancel && cancel->load()) return PassEnd::Cancelled;
     }
     int w = settings_.width, h = settings_.height;
     int tilesX = (w + kTileSize - 1) / kTileSize, tilesY = (h + kTileSize - 1) / kTileSize;
@@ -115,19 +157,32 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
     tbb::enumerable_thread_specific<ThreadCounters> counters;
     std::vector<std::vector<RecordedRay>> tileRays(settings_.recordRays ? tileCount : 0);
     std::atomic<int> done{0};
+    std::atomic<bool> cut{false};
+    std::atomic<uint64_t> pixelsDone{0};
     Vec3 forward = camera_.forward();
     tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         tbb::parallel_for(0, tileCount, [&](int t) {
             if (cancel && cancel->load(std::memory_order_relaxed)) return;
+            if (past(deadline)) {
+                cut = true;
+                return;
+            }
             int x0 = (t % tilesX) * kTileSize, y0 = (t / tilesX) * kTileSize;
             auto tile = std::make_unique<FilmTile>(x0, y0, std::min(x0 + kTileSize, w), std::min(y0 + kTileSize, h),
                                                    film_.filter());
             ThreadCounters& c = counters.local();
             c.rays.record = settings_.recordRays ? &tileRays[t] : nullptr;
             Sampler sampler(settings_.seed);
-            for (int y = tile->y0; y < tile->y1; ++y)
-                for (int x = tile->x0; x < tile->x1; ++x)
+            uint64_t tilePixels = 0;
+            for (int y = tile->y0; y < tile->y1 && !(deadline > 0 && cut.load(std::memory_order_relaxed)); ++y)
+                for (int x = tile->x0; x < tile->x1; ++x) {
+                    // Checked per pixel, so the deadline is kept to within one pixel's samples.
+                    if (past(deadline)) {
+                        cut = true;
+                        break;
+                    }
+                    ++tilePixels;
                     for (int s = firstSample; s < firstSample + count; ++s) {
                         sampler.start(x, y, uint32_t(s));
                         Vec2 pixel = sampler.get2D();
@@ -151,6 +206,8 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
                         tile->addSample(fx, fy, L, aovs);
                         ++c.samples;
                     }
+                }
+            pixelsDone += tilePixels;
             tiles[t] = std::move(tile);
             int finished = ++done;
             lastTileTime_.store(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(),
@@ -160,11 +217,14 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
                             std::memory_order_relaxed);
         });
     });
-    bool complete = true;
+    bool complete = !cut;
     for (auto& tile : tiles) complete = complete && tile != nullptr;
-    // Merged in tile order after the pass: the image does not depend on thread timing.
-    if (complete)
-        for (auto& tile : tiles) film_.merge(*tile);
+    bool cancelled = !complete && cancel && cancel->load();
+    // Merged in tile order after the pass: the image does not depend on thread timing. A pass
+    // cut by the deadline keeps the pixels it finished; a cancelled one is discarded.
+    if (!cancelled)
+        for (auto& tile : tiles)
+            if (tile) film_.merge(*tile);
     for (auto& rays : tileRays) settings_.recordRays->insert(settings_.recordRays->end(), rays.begin(), rays.end());
     for (const ThreadCounters& c : counters) {
         stats_.rays += c.rays.rays;
@@ -176,23 +236,34 @@ bool Renderer::renderPass(int firstSample, int count, const std::atomic<bool>* c
     stats_.renderSeconds += secondsSince(start);
     if (complete) samplesTaken_ = std::max(samplesTaken_, firstSample + count);
     stats_.spp = samplesTaken_;
-    return complete;
+    if (complete) return PassEnd::Complete;
+    if (cancelled) return PassEnd::Cancelled;
+    stats_.partialPassPixels = pixelsDone.load();
+    stats_.partialPassSamples = count;
+    return PassEnd::Deadline;
 }
 
-void Renderer::render(const std::atomic<bool>* cancel) {
-    auto start = Clock::now();
-    preprocess(cancel);
+void Renderer::render(const std::atomic<bool>* cancel, double startedAt) {
+    double start = startedAt > 0 ? startedAt : steadySeconds();
+    double deadline = settings_.timeLimit > 0 ? start + settings_.timeLimit : 0;
+    preprocess(cancel, deadline);
     int target = std::max(1, settings_.spp);
-    // Passes grow geometrically so the time limit is checked often early on and rarely later.
+    // Passes grow geometrically so that the per-pass overhead is amortised; with a time limit
+    // each is also cut to what the measured rate fits before the deadline, which cuts the last.
     int pass = 1;
     while (samplesTaken_ < target) {
         if (cancel && cancel->load()) break;
-        int count = std::min(pass, target - samplesTaken_);
-        if (!renderPass(samplesTaken_, count, cancel)) break;
-        if (settings_.timeLimit > 0 && secondsSince(start) >= settings_.timeLimit) break;
+        int count = passSamplesBefore(deadline, std::min(pass, target - samplesTaken_));
+        if (renderPass(samplesTaken_, count, deadline, cancel) != PassEnd::Complete) break;
+        if (past(deadline)) break;
         pass = std::min(pass * 2, 64);
     }
-    stats_.seconds = secondsSince(start);
+    if (deadline > 0 && samplesTaken_ == 0 && stats_.partialPassPixels < uint64_t(settings_.width) * settings_.height &&
+        !(cancel && cancel->load()))
+        scene_.warn("time limit: " + std::to_string(settings_.timeLimit) + " s ran out before every pixel had a sample (" +
+                    std::to_string(stats_.partialPassPixels) + " of " +
+                    std::to_string(uint64_t(settings_.width) * settings_.height) + " have one)");
+    stats_.seconds = steadySeconds() - start;
     stats_.peakMemoryBytes = peakResidentMemoryBytes();
     stats_.integrator = integrator_->statistics();
     if (stats_.depthCappedPaths > 0)

@@ -20,7 +20,10 @@ struct RenderSettings {
     std::string preset;  // a named parameter set (integrator.h) under `params`; empty = the defaults
     uint32_t seed = 0;
     int threads = 0;         // 0 = all hardware threads
-    double timeLimit = 0;    // seconds; 0 = none (stops after a whole pass once exceeded)
+    // Seconds for the whole render, preprocessing included; 0 = none. Preprocessing gets about
+    // half (kPreprocessShare) and scales itself down to fit; passes are sized from the measured
+    // sample rate and the last one stops at the deadline, pixel by pixel.
+    double timeLimit = 0;
     std::string filter = "box";
     // Benchmarks only: every ray the render casts is appended here (in tile order, so the same
     // settings record the same rays).
@@ -32,10 +35,21 @@ struct RenderStats {
     uint64_t rays = 0, cameraSamples = 0, nonFiniteSamples = 0;
     uint64_t clampedSamples = 0;  // samples the sampleClamp parameter scaled down
     uint64_t depthCappedPaths = 0;  // paths the safety depth cap ended (kDepthCap; warned about)
-    int spp = 0;
+    int spp = 0;  // complete passes' samples per pixel
+    // A time-limited render's last pass, stopped at the deadline: the pixels it finished (they
+    // have more samples than spp) and the samples per pixel that pass was rendering.
+    uint64_t partialPassPixels = 0;
+    int partialPassSamples = 0;
+    int preprocessScaledDown = 0;  // times preprocessing did less than asked, to keep the time limit
     size_t peakMemoryBytes = 0;
     std::map<std::string, double> integrator;
 };
+
+// The share of a time limit preprocessing may use (the rest is for sampling the image).
+inline constexpr double kPreprocessShare = 0.5;
+
+// How a pass with a deadline ended.
+enum class PassEnd { Complete, Deadline, Cancelled };
 
 class Renderer {
 public:
@@ -43,13 +57,29 @@ public:
     // overrides the scene's camera (a host's view); by default the scene's, else one framing it.
     Renderer(const Scene& scene, const RenderSettings& settings, const CameraDesc* camera = nullptr);
     // Returns false if cancelled; a cancelled preprocess is discarded and redone by the next call.
-    bool preprocess(const std::atomic<bool>* cancel = nullptr);
+    // `deadline` (steadySeconds(); 0 = none): when the render must end; the integrator's
+    // preprocessing is given kPreprocessShare of the time left before it.
+    bool preprocess(const std::atomic<bool>* cancel = nullptr, double deadline = 0);
     bool preprocessed() const { return preprocessed_; }
     // Adds samples [first, first + count) of every pixel to the film. Returns false if cancelled;
     // a cancelled pass leaves the film as it was, so the same pass can be rendered again.
     bool renderPass(int firstSample, int count, const std::atomic<bool>* cancel = nullptr);
-    // Preprocess plus passes up to settings.spp (or the time limit).
-    void render(const std::atomic<bool>* cancel = nullptr);
+    // renderPass with a deadline (steadySeconds(); 0 = none): once it passes, no further pixel is
+    // started, and the pixels finished keep the pass's samples (the film is a per-pixel weighted
+    // mean, so pixels with fewer samples than others stay unbiased). Cancelled: as renderPass.
+    // After a Deadline end the samples [firstSample, firstSample + count) are in part of the
+    // image: samplesTaken() stays at firstSample, and any further pass must start at
+    // firstSample + count (a time-limited render just stops).
+    PassEnd renderPass(int firstSample, int count, double deadline, const std::atomic<bool>* cancel = nullptr);
+    // The samples per pixel, at most `wanted`, that the next pass can take and still end by
+    // `deadline`, from the rate measured in the passes so far (`wanted` before any; at least 1).
+    int passSamplesBefore(double deadline, int wanted) const;
+    // Preprocess plus passes up to settings.spp, or until settings.timeLimit (measured from this
+    // call) with passes sized by passSamplesBefore and the last cut at the deadline.
+    // `startedAt` (steadySeconds(); 0 = now): when the budget began, for a host whose own work
+    // before this call (committing the scene, building it) counts against the time limit;
+    // stats().seconds is measured from it too.
+    void render(const std::atomic<bool>* cancel = nullptr, double startedAt = 0);
     // Fraction of settings.spp done, updated after every tile; safe to read from any thread.
     double progress() const { return progress_.load(std::memory_order_relaxed); }
     // steady_clock time (seconds since its epoch) when the last tile finished: lets a host check

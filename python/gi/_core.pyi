@@ -123,7 +123,7 @@ class RenderSettings:
     preset: str                    # a name from presets() under params ('' = defaults); unknown: ValueError
     seed: int
     threads: int                   # 0 = all
-    time_limit: float              # seconds, 0 = none
+    time_limit: float              # seconds for the whole call (scene commit and preprocessing included), 0 = none
     filter: str                    # pixel reconstruction filter: 'box' (default) | 'gaussian'
     def __init__(self) -> None: ...
 
@@ -132,10 +132,14 @@ class RenderResult:
     depth: npt.NDArray[np.float32]     # (H, W) camera-space distance, inf where nothing was hit
     normal: npt.NDArray[np.float32]    # (H, W, 3) world-space shading normal
     albedo: npt.NDArray[np.float32]    # (H, W, 3)
-    spp: int                           # samples actually taken
+    spp: int                           # samples per pixel of the complete passes
     stats: dict                        # seconds, preprocess_seconds, render_seconds, rays, rays_per_second,
                                        # camera_samples, samples_per_second, non_finite_samples, clamped_samples,
-                                       # depth_capped_paths, peak_memory_bytes, spp, + the integrator's own statistics
+                                       # depth_capped_paths, peak_memory_bytes, spp, partial_pass_pixels and
+                                       # partial_pass_samples (the last pass the time limit cut: the pixels
+                                       # that have its samples too), preprocess_scaled_down (times
+                                       # preprocessing did less than asked to keep the time limit), + the
+                                       # integrator's own statistics
 
 def presets() -> list[dict]:
     """[{'name', 'description', 'params': {integrator: {parameter: value}}}] (e.g. 'thesis')"""

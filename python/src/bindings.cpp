@@ -248,6 +248,7 @@ RenderSettings toRenderSettings(const PyRenderSettings& py) {
 
 RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::callable> progress) {
     RenderSettings settings = toRenderSettings(py);
+    double started = steadySeconds();  // the time limit counts committing the scene too
     {
         nb::gil_scoped_release release;
         scene.commit();
@@ -259,15 +260,17 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
         nb::gil_scoped_release release;
         std::thread worker([&] {
             try {
-                renderer.render(&cancel);
+                renderer.render(&cancel, started);
             } catch (...) {
                 error = std::current_exception();
             }
             finished = true;
         });
-        // The calling thread reports progress and watches for Ctrl-C while workers render.
-        while (!finished) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        // The calling thread reports progress and watches for Ctrl-C every 50 ms while workers
+        // render; it looks for the end every 2 ms, so that a time-limited call returns on time.
+        for (int tick = 1; !finished; ++tick) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+            if (tick % 25 != 0) continue;
             nb::gil_scoped_acquire acquire;
             if (PyErr_CheckSignals() != 0) {
                 cancel = true;
@@ -300,7 +303,10 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
                {"clamped_samples", double(s.clampedSamples)},
                {"depth_capped_paths", double(s.depthCappedPaths)},
                {"peak_memory_bytes", double(s.peakMemoryBytes)},
-               {"spp", double(s.spp)}};
+               {"spp", double(s.spp)},
+               {"partial_pass_pixels", double(s.partialPassPixels)},
+               {"partial_pass_samples", double(s.partialPassSamples)},
+               {"preprocess_scaled_down", double(s.preprocessScaledDown)}};
     for (const auto& [k, v] : s.integrator) r.stats[k] = v;
     return r;
 }

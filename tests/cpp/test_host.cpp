@@ -107,3 +107,89 @@ TEST(Host, CancelledPassLeavesTheFilmAsItWas) {
     EXPECT_TRUE(renderer.renderPass(1, 1));
     EXPECT_EQ(renderer.samplesTaken(), 2);
 }
+
+// A time-limited host renders its last pass with a deadline: the pixels finished by then keep
+// the pass's samples, each one exactly as a render with that many samples would have it.
+TEST(Host, DeadlineCutPassKeepsFinishedPixelsUnbiased) {
+    Scene scene;
+    int white = scene.addMaterial(lambert(Color(0.5f)));
+    addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, white);
+    // A small sphere light: its samples differ, so a pixel's second sample changes its mean.
+    scene.addLight(sphereLight("/Light", {0, 2, 0}, 0.5f, 10));
+    scene.setCamera(lookingDown({0, 5, 0}, true, 40));
+    scene.commit();
+    const int size = 128;
+    Renderer two(scene, smallImage(size, 2));
+    ASSERT_TRUE(two.renderPass(0, 2));
+    std::vector<float> twoSpp = two.film().color();
+    bool partial = false;
+    // The deadline halfway through the second pass, as the first one timed it; retried with
+    // other fractions if thread timing makes the pass finish or not start.
+    for (double fraction : {0.5, 0.25, 0.75, 0.1, 0.9}) {
+        Renderer renderer(scene, smallImage(size, 2));
+        ASSERT_TRUE(renderer.renderPass(0, 1));
+        std::vector<float> oneSpp = renderer.film().color();
+        double passSeconds = renderer.stats().renderSeconds;
+        PassEnd end = renderer.renderPass(1, 1, steadySeconds() + fraction * passSeconds);
+        uint64_t finished = renderer.stats().partialPassPixels;
+        if (end != PassEnd::Deadline || finished == 0) continue;
+        partial = true;
+        EXPECT_EQ(renderer.samplesTaken(), 1);
+        EXPECT_LT(finished, uint64_t(size * size));
+        std::vector<float> cut = renderer.film().color();
+        uint64_t withTwo = 0;
+        for (size_t p = 0; p < cut.size() / 3; ++p) {
+            bool isOne = true, isTwo = true;
+            for (int c = 0; c < 3; ++c) {
+                isOne = isOne && cut[p * 3 + c] == oneSpp[p * 3 + c];
+                isTwo = isTwo && cut[p * 3 + c] == twoSpp[p * 3 + c];
+            }
+            EXPECT_TRUE(isOne || isTwo) << "pixel " << p;
+            withTwo += isTwo && !isOne;
+        }
+        // Pixels whose second sample happens to leave the mean unchanged count as "one".
+        EXPECT_LE(withTwo, finished);
+        EXPECT_GT(withTwo, finished / 2);
+        break;
+    }
+    EXPECT_TRUE(partial) << "no deadline cut the pass part way";
+}
+
+TEST(Host, DeadlinePassedRendersNothingAndCancelStillDiscards) {
+    Scene scene;
+    int white = scene.addMaterial(lambert(Color(0.5f)));
+    litFloor(scene, white);
+    scene.commit();
+    Renderer renderer(scene, smallImage(32, 4));
+    ASSERT_TRUE(renderer.renderPass(0, 1));
+    std::vector<float> before = renderer.film().color();
+    EXPECT_EQ(renderer.renderPass(1, 1, steadySeconds()), PassEnd::Deadline);
+    EXPECT_EQ(renderer.stats().partialPassPixels, 0u);
+    EXPECT_EQ(renderer.film().color(), before);
+    std::atomic<bool> cancel{true};
+    EXPECT_EQ(renderer.renderPass(1, 1, steadySeconds() + 100, &cancel), PassEnd::Cancelled);
+    EXPECT_EQ(renderer.film().color(), before);
+    EXPECT_EQ(renderer.renderPass(1, 1, 0.0), PassEnd::Complete);
+    EXPECT_EQ(renderer.samplesTaken(), 2);
+    // Without a deadline a pass is as large as asked; with one, as large as the rate allows.
+    EXPECT_EQ(renderer.passSamplesBefore(0, 64), 64);
+    EXPECT_EQ(renderer.passSamplesBefore(steadySeconds() + 1e-9, 64), 1);
+}
+
+TEST(Host, TimeLimitIsKept) {
+    Scene scene;
+    int white = scene.addMaterial(lambert(Color(0.5f)));
+    litFloor(scene, white);
+    scene.commit();
+    RenderSettings settings = smallImage(64, 1 << 24);
+    settings.timeLimit = 0.5;
+    double start = steadySeconds();
+    Renderer renderer(scene, settings);
+    renderer.render(nullptr, start);
+    double elapsed = steadySeconds() - start;
+    // The issue's bound: within 5% + 0.2 s of the budget (issue 16).
+    EXPECT_LE(elapsed, 0.5 * 1.05 + 0.2);
+    EXPECT_GE(elapsed, 0.5 * 0.95 - 0.2);
+    EXPECT_NEAR(renderer.stats().seconds, elapsed, 0.05);
+    EXPECT_GT(renderer.samplesTaken(), 1);
+}
