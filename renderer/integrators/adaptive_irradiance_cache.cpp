@@ -24,10 +24,17 @@ void AdaptiveIrradianceCacheIntegrator::preprocess(const PreprocessContext& cont
                                       cache_, preprocessRecords_);
         std::vector<uint32_t> all(points.size());
         for (size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
-        refinement.cover(all);
+        refinement.cover(all, context.deadline);
         firstFillRecords_ = cache_.size();
         auto refineStart = Clock::now();
-        if (!(context.cancel && context.cancel->load())) refinement_ = refinement.refine(refinementSettings_, context.cancel);
+        if (context.pastDeadline())  // the render computes the records still missing
+            context.scaledDown("adaptive irradiance cache: the first fill reached the preprocessing deadline; no refinement");
+        else if (!context.cancelled()) {
+            refinement_ = refinement.refine(refinementSettings_, context.cancel, context.deadline);
+            if (!refinement_.converged && context.pastDeadline())
+                context.scaledDown("adaptive irradiance cache refinement stopped after " +
+                                   std::to_string(refinement_.rounds) + " rounds, unconverged");
+        }
         refinementSeconds_ = std::chrono::duration<double>(Clock::now() - refineStart).count();
         peakMemoryBytes_ = peakResidentMemoryBytes();  // while the points are still held
     }

@@ -27,7 +27,7 @@ AdaptiveRefinement::AdaptiveRefinement(const Scene& scene, const IrradianceRecor
       cache_(cache),
       counters_(counters) {}
 
-std::vector<uint32_t> AdaptiveRefinement::cover(const std::vector<uint32_t>& pointIds) {
+std::vector<uint32_t> AdaptiveRefinement::cover(const std::vector<uint32_t>& pointIds, double deadline) {
     std::vector<std::vector<uint32_t>> byPhase(phases_.count());
     uint32_t width = uint32_t(phases_.width());
     for (uint32_t id : pointIds) {
@@ -38,6 +38,7 @@ std::vector<uint32_t> AdaptiveRefinement::cover(const std::vector<uint32_t>& poi
     std::vector<RecordSite> sites;
     for (const std::vector<uint32_t>& ids : byPhase) {
         if (ids.empty()) continue;
+        if (deadline > 0 && steadySeconds() >= deadline) break;
         sites.clear();
         for (uint32_t id : ids) sites.push_back(points_.site(id, footprint_));
         std::vector<uint32_t> added = addMissingRecords(scene_, sampler_, seed_, sites, cache_, counters_);
@@ -103,7 +104,7 @@ std::vector<uint32_t> AdaptiveRefinement::pointsWithin(const std::vector<std::pa
 }
 
 RefinementStatistics AdaptiveRefinement::refine(const AdaptiveRefinementSettings& settings,
-                                                const std::atomic<bool>* cancel) {
+                                                const std::atomic<bool>* cancel, double deadline) {
     RefinementStatistics stats;
     {
         std::vector<Vec3> positions(points_.size());
@@ -118,6 +119,7 @@ RefinementStatistics AdaptiveRefinement::refine(const AdaptiveRefinementSettings
     std::vector<uint8_t> uncovered;
     while (!queue.empty() && stats.rounds < settings.maxRounds) {
         if (cancel && cancel->load()) break;
+        if (deadline > 0 && steadySeconds() >= deadline) break;
         ++stats.rounds;
         stats.pointVisits += queue.size();
         proposals.assign(cache_.size(), kInf);

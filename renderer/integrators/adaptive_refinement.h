@@ -51,9 +51,12 @@ public:
 
     // Records for the given points (indices, ascending) that the cache does not cover, coarse
     // to fine over their pixels. Returns the new records' ids.
-    std::vector<uint32_t> cover(const std::vector<uint32_t>& pointIds);
-    // The refinement queue, starting from every point.
-    RefinementStatistics refine(const AdaptiveRefinementSettings& settings, const std::atomic<bool>* cancel);
+    // Stops between phases once steadySeconds() passes `deadline` (0 = none).
+    std::vector<uint32_t> cover(const std::vector<uint32_t>& pointIds, double deadline = 0);
+    // The refinement queue, starting from every point. Stops between rounds when cancelled or
+    // once steadySeconds() passes `deadline` (0 = none).
+    RefinementStatistics refine(const AdaptiveRefinementSettings& settings, const std::atomic<bool>* cancel,
+                                double deadline = 0);
 
 private:
     // Step 1 for one point: marks it uncovered, or proposes factors for discernible records.

@@ -51,8 +51,15 @@ void IrradianceCacheIntegrator::preprocess(const PreprocessContext& context) {
 void IrradianceCacheIntegrator::fillFromPixelCentres(const PreprocessContext& context) {
     if (!recordSampler_.gathersLight()) return;
     PixelPhases phases(context.width, context.height, settings_.record.maxSpacing);
+    int phase = 0;
     for (const std::vector<uint32_t>& pixels : phases.pixelsByPhase()) {
         if (context.cancel && context.cancel->load()) return;
+        if (context.pastDeadline()) {  // the render computes the records still missing
+            context.scaledDown("irradiance cache fill stopped after phase " + std::to_string(phase) + " of " +
+                               std::to_string(phases.count()));
+            return;
+        }
+        ++phase;
         // Sites per fixed-size chunk of pixels, concatenated in chunk order: pixel order.
         constexpr size_t kChunk = 64;
         std::vector<std::vector<RecordSite>> chunks((pixels.size() + kChunk - 1) / kChunk);

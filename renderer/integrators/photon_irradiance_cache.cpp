@@ -84,8 +84,15 @@ void PhotonMapIrradianceCacheIntegrator::preprocess(const PreprocessContext& con
 
 void PhotonMapIrradianceCacheIntegrator::fillFromPixelCentres(const PreprocessContext& context) {
     PixelPhases phases(context.width, context.height, settings_.record.maxSpacing);
+    int phase = 0;
     for (const std::vector<uint32_t>& pixels : phases.pixelsByPhase()) {
         if (context.cancel && context.cancel->load()) return;
+        if (context.pastDeadline()) {  // the render computes the records still missing
+            context.scaledDown("irradiance cache fill stopped after phase " + std::to_string(phase) + " of " +
+                               std::to_string(phases.count()));
+            return;
+        }
+        ++phase;
         // The non-specular points the ray tracer will shade, per fixed-size chunk of pixels,
         // concatenated in chunk order: pixel order.
         constexpr size_t kChunk = 64;

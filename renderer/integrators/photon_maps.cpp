@@ -32,16 +32,41 @@ uint32_t photonCount(const Scene& scene, double requested, const char* parameter
 
 // Irradiance photons: every stride-th photon of the global map (in tree order, so spread
 // like the photons), carrying the map's irradiance estimate at its position instead of its power.
-std::vector<Photon> irradiancePhotons(const Scene& scene, const PhotonMap& global, int k, float maxRadius) {
+// With a deadline (context.deadline), the first estimates are timed and the stride widened so
+// that the rest end by it.
+std::vector<Photon> irradiancePhotons(const PreprocessContext& context, const PhotonMap& global, int k, float maxRadius) {
+    const Scene& scene = context.scene;
     size_t stride = std::max<size_t>(kMinIrradianceStride, (global.size() + kMaxIrradiancePhotons - 1) / kMaxIrradiancePhotons);
-    std::vector<Photon> result((global.size() + stride - 1) / stride);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, result.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t i = r.begin(); i < r.end(); ++i) {
-            Photon photon = global.tree()[uint32_t(i * stride)];
-            photon.power = global.irradiance(PhotonLookup{photon.p, photon.n(), photon.surface, &scene}, k, maxRadius).value;
-            result[i] = photon;
+    std::vector<Photon> result;
+    auto estimate = [&](size_t begin, size_t end) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 256), [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t i = r.begin(); i < r.end(); ++i) {
+                Photon photon = global.tree()[uint32_t(i * stride)];
+                photon.power = global.irradiance(PhotonLookup{photon.p, photon.n(), photon.surface, &scene}, k, maxRadius).value;
+                result[i] = photon;
+            }
+        });
+    };
+    result.resize((global.size() + stride - 1) / stride);
+    size_t timed = 0;
+    if (context.deadline > 0) {
+        constexpr size_t kTimed = 2048;  // about 1% of a full irradiance map: a short, steady sample
+        timed = std::min(result.size(), kTimed);
+        auto start = Clock::now();
+        estimate(0, timed);
+        double perEstimate = secondsSince(start) / double(std::max<size_t>(1, timed));
+        double fit = context.secondsLeft() / perEstimate;
+        if (fit < double(result.size() - timed)) {
+            size_t wanted = std::max<size_t>(timed, size_t(fit));
+            size_t wider = (global.size() + wanted - 1) / wanted;
+            context.scaledDown("photon mapping precomputed irradiance at every " + std::to_string(wider) +
+                               "th photon instead of every " + std::to_string(stride) + "th");
+            stride = wider;
+            result.assign((global.size() + stride - 1) / stride, Photon());
+            timed = 0;
         }
-    });
+    }
+    estimate(timed, result.size());
     return result;
 }
 }  // namespace
@@ -63,6 +88,7 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
     stats["photonLightsSkipped"] = 0;
 
     PhotonEmitters emitters;
+    auto pilotStart = Clock::now();
     if (globalCount + causticCount > 0) {
         if (scene.lights().empty()) {
             scene.warn("photon mapping: the scene has no light to emit photons; the photon maps stay empty");
@@ -80,6 +106,29 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
     }
     if (emitters.empty()) globalCount = causticCount = 0;
 
+    // A time limit: the two passes stop at their share of the preprocessing deadline (half the
+    // time left after the pilot, split as their photon counts; the rest is for building the maps
+    // and what the integrator does with them), and the photons traced stand for all requested.
+    double globalDeadline = 0, causticDeadline = 0;
+    if (context.deadline > 0) {
+        double now = steadySeconds(), traceSeconds = 0.5 * context.secondsLeft();
+        double total = std::max(1.0, double(globalCount) + double(causticCount));
+        globalDeadline = now + traceSeconds * (globalCount / total);
+        causticDeadline = now + traceSeconds;
+        // A pilot that overran the whole share leaves the passes a chunk each.
+        if (context.pastDeadline())
+            context.scaledDown("photon mapping: the emitter pilot took " + std::to_string(secondsSince(pilotStart)) +
+                               " s, the preprocessing share; tracing one chunk of photons per map");
+    }
+    auto scaleUp = [&](std::vector<Photon>& photons, uint32_t traced, uint32_t& count, const char* which) {
+        if (traced >= count || traced == 0 || context.cancelled()) return;
+        float scale = float(double(count) / traced);
+        for (Photon& photon : photons) photon.power = photon.power * scale;
+        context.scaledDown("photon mapping traced " + std::to_string(traced) + " of " + std::to_string(count) + " " +
+                           which + " photons");
+        count = traced;
+    };
+
     PhotonTracer::Counters counters;
     PhotonTracer tracer(scene, emitters.distribution, context.seed);
     std::vector<Photon> globalPhotons, causticPhotons;
@@ -87,7 +136,9 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
         PhotonTraceSettings global;
         global.maxBounces = settings.photonDepth;
         global.keepDirect = global.keepCaustic = settings.globalKeepsDirectAndCaustic;
-        globalPhotons = tracer.tracePass(kGlobalStream, globalCount, global, counters, context.cancel);
+        uint32_t traced = globalCount;
+        globalPhotons = tracer.tracePass(kGlobalStream, globalCount, global, counters, context.cancel, globalDeadline, &traced);
+        scaleUp(globalPhotons, traced, globalCount, "global");
         if (globalPhotons.empty())
             scene.warn("photon mapping: none of " + std::to_string(globalCount) +
                        " photons landed on a surface that reflects light diffusely; the global map is empty");
@@ -97,7 +148,10 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
         caustic.maxBounces = settings.photonDepth;
         caustic.causticOnly = true;
         caustic.keepDirect = caustic.keepIndirect = false;
-        causticPhotons = tracer.tracePass(kCausticStream, causticCount, caustic, counters, context.cancel);
+        uint32_t traced = causticCount;
+        causticPhotons = tracer.tracePass(kCausticStream, causticCount, caustic, counters, context.cancel, causticDeadline,
+                                          &traced);
+        scaleUp(causticPhotons, traced, causticCount, "caustic");
         if (causticPhotons.empty())
             scene.warn("photon mapping: none of " + std::to_string(causticCount) +
                        " caustic photons found a specular path to a diffuse surface; the caustic map is empty");
@@ -117,7 +171,7 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
     stats["photonMapBuildSeconds"] = secondsSince(buildStart);
     if (settings.precomputeIrradiance && !maps.global.empty()) {
         auto irradianceStart = Clock::now();
-        maps.irradiance.build(irradiancePhotons(scene, maps.global, settings.gatherPhotons, maps.gatherRadius));
+        maps.irradiance.build(irradiancePhotons(context, maps.global, settings.gatherPhotons, maps.gatherRadius));
         stats["irradianceMapPhotons"] = double(maps.irradiance.size());
         stats["irradianceMapBytes"] = double(maps.irradiance.memoryBytes());
         stats["irradianceMapSeconds"] = secondsSince(irradianceStart);

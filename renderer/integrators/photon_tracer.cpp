@@ -59,13 +59,16 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
 }
 
 std::vector<Photon> PhotonTracer::tracePass(uint32_t stream, uint32_t count, const PhotonTraceSettings& settings,
-                                            Counters& counters, const std::atomic<bool>* cancel) const {
+                                            Counters& counters, const std::atomic<bool>* cancel,
+                                            double deadline, uint32_t* traced) const {
     constexpr uint32_t kChunk = 4096;
     size_t chunks = (size_t(count) + kChunk - 1) / kChunk;
     std::vector<std::vector<Photon>> stored(chunks);
+    std::atomic<uint32_t> tracedCount{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks, 1), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t chunk = range.begin(); chunk < range.end(); ++chunk) {
             if (cancel && cancel->load(std::memory_order_relaxed)) return;
+            if (chunk > 0 && deadline > 0 && steadySeconds() >= deadline) return;
             std::vector<Photon>& out = stored[chunk];
             PhotonLanding keep = [&](const Photon& photon, PhotonPath path, int) {
                 if (settings.keeps(path)) out.push_back(photon);
@@ -75,8 +78,10 @@ std::vector<Photon> PhotonTracer::tracePass(uint32_t stream, uint32_t count, con
             for (uint32_t i = uint32_t(chunk * kChunk); i < end; ++i) trace(stream, i, count, settings, stats, keep);
             counters.rays.fetch_add(stats.rays, std::memory_order_relaxed);
             counters.depthCapped.fetch_add(stats.depthCapped, std::memory_order_relaxed);
+            tracedCount.fetch_add(end - uint32_t(chunk * kChunk), std::memory_order_relaxed);
         }
     });
+    if (traced) *traced = tracedCount.load();
     // Concatenated in chunk order: photon order, whichever thread traced what.
     size_t total = 0;
     for (const auto& chunk : stored) total += chunk.size();

@@ -53,13 +53,17 @@ public:
                const PhotonLanding& land) const;
 
     // Traces photons [0, count) of `stream` on all threads and returns the landings that
-    // settings.keeps(), in photon order. Stops early (between chunks) when cancelled.
+    // settings.keeps(), in photon order. Stops early (between chunks) when cancelled, or once
+    // steadySeconds() passes `deadline` (0 = none; the first chunk is always traced): then
+    // `*traced` (if given) says how many of the `count` photons were, and the caller must
+    // scale the photons' power by count / *traced.
     struct Counters {
         std::atomic<uint64_t> rays{0};
         std::atomic<uint64_t> depthCapped{0};  // photons stopped by the safety depth cap
     };
     std::vector<Photon> tracePass(uint32_t stream, uint32_t count, const PhotonTraceSettings& settings,
-                                  Counters& counters, const std::atomic<bool>* cancel) const;
+                                  Counters& counters, const std::atomic<bool>* cancel, double deadline = 0,
+                                  uint32_t* traced = nullptr) const;
 
 private:
     const Scene& scene_;
