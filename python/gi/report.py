@@ -9,6 +9,8 @@ from __future__ import annotations
 import base64
 import html
 import math
+import os
+import platform
 from collections import defaultdict
 from pathlib import Path
 
@@ -27,6 +29,10 @@ METRIC_COLUMNS = [("time s", "seconds", ".2f"), ("preprocess s", "preprocess_sec
                   ("RMSE linear", "rmse_linear", ".4f"), ("rel. MSE", "relative_mse", ".4g"),
                   ("FLIP", "flip", ".4f"), ("lum. ratio", "luminance_ratio", ".3f"),
                   ("fireflies/seed", "fireflies", ".3g")]
+# Equal-time tables also show the budget and the wall time around the render call, beside "time s"
+# (the render's own measure, preprocessing included).
+BUDGET_COLUMNS = [("budget s", "budget_seconds", "g")]
+WALL_COLUMNS = [("wall s", "wall_seconds", ".2f")]
 
 
 def number(value, spec=None):
@@ -53,12 +59,20 @@ def runs_of(study):
 
 
 def groups(study):
-    """(title, rows) per equal-time budget, or one group for a parameter table."""
+    """(title, rows) per equal-time budget (its title with the range of measured seconds), or one
+    group for a parameter table."""
     by_budget = defaultdict(list)
     for row in runs_of(study):
         by_budget[row["budget_seconds"]].append(row)
-    return [(f"Equal time: {number(budget, 'g')} s" if budget != "" else "Fixed parameters", rows)
-            for budget, rows in by_budget.items()]
+    result = []
+    for budget, rows in by_budget.items():
+        if budget == "":
+            result.append(("Fixed parameters", rows))
+            continue
+        seconds = [float(row["seconds"]) for row in rows]
+        result.append((f"Equal time: {number(budget, 'g')} s (measured {min(seconds):.2f}-{max(seconds):.2f} s)",
+                       rows))
+    return result
 
 
 def technique(row):
@@ -66,9 +80,17 @@ def technique(row):
     return row["integrator"] if row["budget_seconds"] != "" else row["label"]
 
 
+def metric_columns(rows):
+    """METRIC_COLUMNS, with the budget and the wall time beside the measured time at equal time."""
+    if any(row["budget_seconds"] == "" for row in rows):
+        return METRIC_COLUMNS
+    return BUDGET_COLUMNS + METRIC_COLUMNS[:1] + WALL_COLUMNS + METRIC_COLUMNS[1:]
+
+
 def metric_table(title, rows):
-    headers = ["technique"] + [header for header, _, _ in METRIC_COLUMNS]
-    cells = [[technique(row)] + [number(row[key], spec) for _, key, spec in METRIC_COLUMNS] for row in rows]
+    columns = metric_columns(rows)
+    headers = ["technique"] + [header for header, _, _ in columns]
+    cells = [[technique(row)] + [number(row[key], spec) for _, key, spec in columns] for row in rows]
     return title, headers, cells
 
 
@@ -163,6 +185,26 @@ def markdown_table(title, headers, cells):
     return "\n".join(lines) + "\n"
 
 
+def cpu_model():
+    """The CPU's model name (Linux's /proc/cpuinfo), else what the platform module knows."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine() or "unknown CPU"
+
+
+def machine_line(study):
+    """The machine the figures were measured on, and what kind of figures they are."""
+    available = os.cpu_count() or 0
+    threads = study.threads if study.threads > 0 else available
+    return (f"Measured on {cpu_model()}, {threads} render threads ({available} hardware threads). Every figure "
+            f"comes from one run of each technique (one seed, one timing): read them as ratios between "
+            f"techniques on this machine, not as absolute times or errors.")
+
+
 def summary_line(study, code=lambda text: f"`{text}`"):
     width, height = study.resolution
     return (f"Scene {code(study.scene)} at {width}x{height}, against {code(study.reference_path)} "
@@ -175,7 +217,7 @@ def palette_caption(study):
 
 
 def markdown_report(study):
-    parts = ["# Integrator study", "", summary_line(study), ""]
+    parts = ["# Integrator study", "", summary_line(study), "", machine_line(study), ""]
     parts += [markdown_table(*table) for table in all_tables(study)]
     parts += ["## Error against time", "", f"![error against time]({PLOT})", "", "## Images", "",
               palette_caption(study), "", f"![palette]({PALETTE})", "",
@@ -234,7 +276,8 @@ def html_report(study):
     reference_uri = inline_png(study.output / REFERENCE_PNG)
     parts = ["<!DOCTYPE html><html><head><meta charset='utf-8'><title>Integrator study</title>",
              f"<style>{STYLE}</style></head><body>", "<h1>Integrator study</h1>",
-             f"<p>{summary_line(study, code=lambda text: f'<code>{html.escape(text)}</code>')}</p>"]
+             f"<p>{summary_line(study, code=lambda text: f'<code>{html.escape(text)}</code>')}</p>",
+             f"<p>{html.escape(machine_line(study))}</p>"]
     parts += [html_table(*table) for table in all_tables(study)]
     parts += ["<h2>Error against time</h2>", f'<img src="{inline_png(study.output / PLOT)}" alt="error against time">',
               "<h2>Images</h2>", f"<p>{html.escape(palette_caption(study))}</p>",

@@ -214,3 +214,16 @@ def test_fireflies_are_counted_over_seeds(tiny_study):
         count = float(row["fireflies"])
         assert 0 <= count <= SIZE[0] * SIZE[1]
         assert (count * 3) == pytest.approx(round(count * 3))
+
+
+def test_equal_time_runs_keep_their_budget_and_the_report_says_so(tiny_study):
+    """Each run's seconds lie within 5% + 0.2 s of its budget (issue 16's bound), and the
+    equal-time tables show budget, measured and wall seconds, and the machine."""
+    for row in run_rows(tiny_study):
+        budget = float(row["budget_seconds"])
+        assert abs(float(row["seconds"]) - budget) <= 0.05 * budget + 0.2, row
+    text = (tiny_study["out"] / "report.md").read_text()
+    assert "| budget s | time s | wall s |" in text
+    for budget in BUDGETS:
+        assert f"### Equal time: {budget:g} s (measured " in text
+    assert "Measured on " in text and "render threads" in text and "one run of each technique" in text
