@@ -292,9 +292,6 @@ def add_study_parser(commands, flags):
     runs.add_argument("--budgets", type=seconds_list, help="comma-separated seconds per run (default 1,2,4)")
     runs.add_argument("--params-file", help="JSON table of runs at fixed parameters (see gi.study)")
     study.add_argument("-o", "--output", default="study", metavar="DIR", help="output folder (default ./study)")
-    study.add_argument("--firefly-seeds", type=positive_int, default=3, metavar="N",
-                       help="render each run with N seeds and count as fireflies the pixels above 10x their "
-                            "median over the seeds (default 3; 1 = against the image's median, no extra renders)")
     add_common_render_options(study, "the reference's")
 
 

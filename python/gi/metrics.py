@@ -92,38 +92,41 @@ def flip(img, ref) -> float:
 
 
 FIREFLY_K = 10.0
-FIREFLY_SEEDS = 3  # the fewest seeds whose per-pixel median a single outlier cannot drag up
+FIREFLY_WINDOW = 3  # the reference's local value: its luminance averaged over 3x3 pixels
 
 
-def firefly_count(img, k: float = FIREFLY_K) -> int:
-    """Pixels brighter than k x the median luminance of the lit (Y > 0) pixels (one image: what a
-    reference or a single render can be scored with)."""
-    y = luminance(img)
-    lit = y[y > 0]
+def local_luminance(ref, window: int = FIREFLY_WINDOW) -> np.ndarray:
+    """The luminance of ref averaged over a window x window box around every pixel (edges
+    repeated), shaped (H, W)."""
+    y = luminance(ref)
+    r = window // 2
+    padded = np.pad(y, r, mode="edge")
+    height, width = y.shape
+    total = np.zeros_like(y)
+    for dy in range(window):
+        for dx in range(window):
+            total += padded[dy:dy + height, dx:dx + width]
+    return total / (window * window)
+
+
+def firefly_count(img, ref, k: float = FIREFLY_K, window: int = FIREFLY_WINDOW) -> int:
+    """Fireflies of img against the reference ref: pixels whose luminance exceeds k times the
+    reference's local luminance (its mean over window x window pixels, so that a pixel on the edge
+    of a light or a highlight is compared with the light it sits beside). The local value is
+    floored at 1/k of the reference's median lit (Y > 0) local luminance, so that where the
+    reference is black a pixel counts only when it is brighter than a typical lit pixel, and
+    noise in a dark corner does not count everything. A render that is merely brighter
+    everywhere (by less than k) has none; an image scored against itself has none."""
+    a, b = _pair(img, ref)
+    y = luminance(a)
+    local = local_luminance(b, window)
+    lit = local[local > 0]
     if lit.size == 0:
-        return 0
-    # The median ignores black pixels so that a mostly dark image does not flag everything lit.
-    return int(np.count_nonzero(y > k * np.median(lit)))
-
-
-def firefly_count_over_seeds(images, k: float = FIREFLY_K) -> float:
-    """Fireflies of one run rendered with several seeds: pixels brighter than k x their own median
-    luminance over the seeds, counted in every seed's image and averaged over the seeds. A pixel
-    is compared with what it usually is, so a bright light or highlight is not a firefly and a
-    speck in a dark corner is. Where a pixel's median is under 1/k of the image's (the median of
-    the lit pixels' medians), that stands in, so black-most-of-the-time pixels are flagged only
-    when brighter than a typical pixel. Fewer than FIREFLY_SEEDS images: the one-image count."""
-    images = [_rgb(np.asarray(img)) for img in images]
-    if len(images) < FIREFLY_SEEDS:
-        return float(np.mean([firefly_count(img, k) for img in images])) if images else 0.0
-    y = np.stack([luminance(img) for img in images])
-    median = np.median(y, axis=0)
-    lit = median[median > 0]
-    floor = float(np.median(lit)) / k if lit.size else float(np.max(y)) / k
-    if floor <= 0:
-        return 0.0
-    threshold = k * np.maximum(median, floor)
-    return float(np.count_nonzero(y > threshold[None])) / len(images)
+        # A black reference: anything lit is k x above nothing; count against the image's own scale.
+        lit_y = y[y > 0]
+        return int(np.count_nonzero(y > k * np.median(lit_y))) if lit_y.size else 0
+    floor = float(np.median(lit)) / k
+    return int(np.count_nonzero(y > k * np.maximum(local, floor)))
 
 
 def has_nan_or_inf(img) -> bool:
@@ -169,7 +172,7 @@ class Metrics:
     relative_mse: float
     flip: float
     luminance_ratio: float
-    fireflies: int  # in img, not in ref
+    fireflies: int  # pixels of img above FIREFLY_K x the reference's local luminance (firefly_count)
 
 
 def compare(img, ref) -> Metrics:
@@ -181,7 +184,7 @@ def compare(img, ref) -> Metrics:
         relative_mse=relative_mse(a, b),
         flip=flip(a, b),
         luminance_ratio=luminance_ratio(a, b),
-        fireflies=firefly_count(a),
+        fireflies=firefly_count(a, b),
     )
 
 

@@ -28,7 +28,7 @@ METRIC_COLUMNS = [("time s", "seconds", ".2f"), ("preprocess s", "preprocess_sec
                   ("peak MB", "peak_memory_mb", ".0f"), ("RMSE sRGB8", "rmse_srgb8", ".2f"),
                   ("RMSE linear", "rmse_linear", ".4f"), ("rel. MSE", "relative_mse", ".4g"),
                   ("FLIP", "flip", ".4f"), ("lum. ratio", "luminance_ratio", ".3f"),
-                  ("fireflies/seed", "fireflies", ".3g")]
+                  ("fireflies", "fireflies", "d")]
 # Equal-time tables also show the budget and the wall time around the render call, beside "time s"
 # (the render's own measure, preprocessing included).
 BUDGET_COLUMNS = [("budget s", "budget_seconds", "g")]

@@ -191,15 +191,12 @@ def integrator_stats(stats):
     return {key: value for key, value in stats.items() if key not in COMMON_STATS}
 
 
-def measured_row(run, result, wall_seconds, peak_bytes, reference, other_seeds=()):
-    """The CSV row of one run: cost, error metrics and the integrator's statistics. `other_seeds`:
-    the same run's images at further seeds, for the firefly count (pixels above k x their median
-    over the seeds, per seed); without them, fireflies are counted against the image's median."""
+def measured_row(run, result, wall_seconds, peak_bytes, reference):
+    """The CSV row of one run: cost, error metrics (fireflies against the reference, see
+    metrics.firefly_count) and the integrator's statistics."""
     stats = result.stats
     color = np.asarray(result.color)
     scores = metrics.compare(color, reference)
-    if other_seeds:
-        scores.fireflies = metrics.firefly_count_over_seeds([color, *other_seeds])
     return {"label": run.label, "integrator": run.integrator,
             "budget_seconds": "" if run.budget is None else run.budget, "spp": result.spp,
             "params": json.dumps(run.params, sort_keys=True), "seconds": stats["seconds"],
@@ -293,13 +290,8 @@ def progress_line(row):
             f"{row['spp']} spp, RMSE sRGB8 {row['rmse_srgb8']:.2f}, FLIP {row['flip']:.4f}")
 
 
-def firefly_images(loaded, run, size, seed, threads, seeds):
-    """The run's images at seeds seed+1 .. seed+seeds-1 (their time is not the run's)."""
-    return [np.array(render_run(loaded, run, size, seed + i, threads)[0].color) for i in range(1, seeds)]
-
-
 def run_study(scene, reference_path, runs, output, resolution=None, seed=0, threads=0, camera=None,
-              show_progress=False, log=print, firefly_seeds=metrics.FIREFLY_SEEDS):
+              show_progress=False, log=print):
     """Renders every run, scores it against the reference, writes everything; returns a StudyResult."""
     from tqdm import tqdm
 
@@ -315,8 +307,7 @@ def run_study(scene, reference_path, runs, output, resolution=None, seed=0, thre
     rows, colors, files = [check_row(reference, meta)], {}, {}
     for run in tqdm(runs, desc="study", disable=not show_progress, leave=False, file=sys.stderr):
         result, wall_seconds, peak_bytes = render_run(loaded, run, size, seed, threads)
-        others = firefly_images(loaded, run, size, seed, threads, firefly_seeds)
-        rows.append(measured_row(run, result, wall_seconds, peak_bytes, reference, others))
+        rows.append(measured_row(run, result, wall_seconds, peak_bytes, reference))
         colors[run.label] = np.array(result.color)
         files[run.label] = save_run(result, run, output, scene)
         log(progress_line(rows[-1]))
@@ -334,6 +325,6 @@ def cmd_study(args):
     from .cli import require_core
     runs = plan_runs(args, require_core().integrators())
     study = run_study(args.scene, args.reference, runs, args.output, args.resolution, args.seed, args.threads,
-                      args.camera, show_progress=sys.stderr.isatty(), firefly_seeds=args.firefly_seeds)
+                      args.camera, show_progress=sys.stderr.isatty())
     print(f"{len(runs)} runs -> {study.output}/results.csv, {study.output}/report.html")
     return 0

@@ -72,19 +72,48 @@ def test_luminance_ratio(ref):
     assert metrics.luminance_ratio(ref, ref) == pytest.approx(1.0)
 
 
-def test_firefly_count_finds_exactly_the_planted_ones():
-    img = np.random.default_rng(2).uniform(0.4, 0.6, (32, 32, 3)).astype(np.float32)
-    img[:20] = 0.0                      # mostly black: the median must be over lit pixels only
-    img[10, 10] = 4.0                   # bright but under 10x the median (~0.5): not a firefly
-    planted = [(12, 3), (20, 20), (31, 0), (15, 30), (25, 7)]
+def smooth_reference(height=32, width=32):
+    """A smooth image with a black band and a bright 'light' patch: what a converged render looks like."""
+    y, x = np.mgrid[0:height, 0:width].astype(np.float32)
+    img = np.repeat((0.3 + 0.2 * np.sin(x / 6.0) * np.cos(y / 7.0))[..., None], 3, axis=-1)
+    img[20:26] = 0.0          # a shadow that is black in the reference
+    img[2:6, 2:6] = 50.0      # a light, 100x its surroundings
+    return img
+
+
+def test_fireflies_are_the_planted_pixels_far_above_the_reference():
+    ref = smooth_reference()
+    img = ref * np.random.default_rng(2).uniform(0.8, 1.2, ref.shape).astype(np.float32)  # noise
+    planted = [(12, 10), (30, 30), (0, 31), (22, 5)]     # (22, 5) sits in the black band
     for p in planted:
-        img[p] = 50.0
-    assert metrics.firefly_count(img) == len(planted)
-    assert metrics.firefly_count(img, k=5.0) == len(planted) + 1
+        img[p] = 20.0
+    img[15, 20] = 2.0      # ~6x the reference there: noise, not a firefly at k = 10
+    img[6, 3] = 30.0       # beside the light: its 3x3 neighbourhood includes the light
+    assert metrics.firefly_count(img, ref) == len(planted)
+    assert metrics.firefly_count(img, ref, k=5.0) == len(planted) + 1
 
 
-def test_firefly_count_of_black_image_is_zero():
-    assert metrics.firefly_count(const(0.0)) == 0
+def test_a_smooth_brighter_image_has_no_fireflies():
+    ref = smooth_reference()
+    assert metrics.firefly_count(ref * 3.0, ref) == 0      # 3x brighter everywhere: wrong, but no fireflies
+    assert metrics.firefly_count(ref, ref) == 0
+    # Faint noise where the reference is black stays under the floor (a typical lit pixel).
+    noisy = ref.copy()
+    noisy[20:26] = 0.05
+    assert metrics.firefly_count(noisy, ref) == 0
+
+
+def test_firefly_local_value_is_a_box_mean_with_repeated_edges():
+    ref = np.zeros((5, 5, 3), np.float32)
+    ref[2, 2] = 9.0
+    local = metrics.local_luminance(ref)
+    assert local[2, 2] == pytest.approx(1.0) and local[1, 1] == pytest.approx(1.0) and local[0, 0] == 0.0
+    assert metrics.local_luminance(const(2.0))[0, 0] == pytest.approx(2.0)
+
+
+def test_firefly_count_of_black_images_is_zero():
+    assert metrics.firefly_count(const(0.0), const(0.0)) == 0
+    assert metrics.firefly_count(const(0.0), const(1.0)) == 0
 
 
 def test_has_nan_or_inf(ref):
@@ -201,22 +230,6 @@ def test_shape_mismatch_raises_naming_both_shapes(fn):
 def test_non_rgb_shapes_raise(shape):
     with pytest.raises(ValueError):
         metrics.luminance(np.zeros(shape, np.float32))
-
-
-def test_fireflies_over_seeds_are_pixels_far_above_their_own_median():
-    rng = np.random.default_rng(3)
-    images = [rng.uniform(0.4, 0.6, (16, 16, 3)).astype(np.float32) for _ in range(4)]
-    for img in images:
-        img[:4, :4] = 40.0               # a light: bright in every seed, not a firefly
-        img[8:, :] = 0.0                 # a black region
-    images[0][10, 10] = 30.0             # a speck in the black region, in one seed
-    images[1][2, 12] = 9.0               # 18x its usual 0.5, in another
-    images[2][5, 5] = 3.0                # 6x: noise, not a firefly
-    assert metrics.firefly_count_over_seeds(images) == 2 / 4
-    assert metrics.firefly_count_over_seeds(images, k=5.0) == 3 / 4
-    # Fewer seeds than a median needs: each image against its own median, averaged.
-    assert metrics.firefly_count_over_seeds(images[:2]) == np.mean([metrics.firefly_count(i) for i in images[:2]])
-    assert metrics.firefly_count_over_seeds([const(0.0)] * 3) == 0
 
 
 def test_local_outliers_count_a_splotch_not_noise():
