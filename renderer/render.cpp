@@ -115,7 +115,9 @@ int Renderer::passSamplesBefore(double deadline, int wanted) const {
     // Seconds per sample per pixel over the whole image, passes' overheads included.
     double pixels = double(settings_.width) * settings_.height;
     double secondsPerSpp = stats_.renderSeconds * pixels / double(stats_.cameraSamples);
-    double fit = (deadline - steadySeconds()) / secondsPerSpp;
+    // Half the time left: passes shrink towards the deadline, so the one it cuts has one sample
+    // per pixel (unless the rate halves) and every pixel ends with n or n + 1.
+    double fit = 0.5 * (deadline - steadySeconds()) / secondsPerSpp;
     return fit >= wanted ? wanted : std::max(1, int(fit));
 }
 

@@ -71,8 +71,9 @@ public:
     // image: samplesTaken() stays at firstSample, and any further pass must start at
     // firstSample + count (a time-limited render just stops).
     PassEnd renderPass(int firstSample, int count, double deadline, const std::atomic<bool>* cancel = nullptr);
-    // The samples per pixel, at most `wanted`, that the next pass can take and still end by
-    // `deadline`, from the rate measured in the passes so far (`wanted` before any; at least 1).
+    // The samples per pixel, at most `wanted`, that the next pass can take in half the time left
+    // before `deadline`, from the rate measured in the passes so far (`wanted` before any; at
+    // least 1): passes shrink to one sample per pixel near the deadline, which cuts one of those.
     int passSamplesBefore(double deadline, int wanted) const;
     // Preprocess plus passes up to settings.spp, or until settings.timeLimit (measured from this
     // call) with passes sized by passSamplesBefore and the last cut at the deadline.
