@@ -13,7 +13,7 @@ from conftest import CORNELL, run_gi
 
 SIZE = (64, 64)
 INTEGRATORS = ["path", "direct", "irradianceCache", "adaptiveIrradianceCache", "photonMapFinalGather",
-               "photonMapIrradianceCache"]
+               "photonMapIrradianceCache", "progressivePhotonMap"]
 # 10 s for the integrator whose preprocessing overran most before (photonMapFinalGather: 3.3 s of
 # photon tracing and irradiance precomputation at any budget) and for the path tracer (passes only).
 LONG = ["path", "photonMapFinalGather"]
