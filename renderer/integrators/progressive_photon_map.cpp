@@ -56,8 +56,14 @@ void ProgressivePhotonMapIntegrator::beginPass(const PreprocessContext& context,
         radiusScales_[size_t(i)] = radiusScale(sample, settings_.alpha);
         if (emitters_.empty()) continue;
         PhotonTracer::Counters counters;
-        std::vector<Photon> stored = tracer.tracePass(kPassStream + sample, photons, trace, counters, context.cancel);
-        photonsTraced_ += photons;
+        uint32_t traced = photons;
+        std::vector<Photon> stored =
+            tracer.tracePass(kPassStream + sample, photons, trace, counters, context.cancel, context.deadline, &traced);
+        // Cut short by a time limit: the photons traced stand for all of them (each photon's
+        // power was divided by the count asked for), so the estimate stays unbiased.
+        if (traced > 0 && traced < photons)
+            for (Photon& p : stored) p.power = p.power * (float(photons) / float(traced));
+        photonsTraced_ += traced;
         photonsStored_ += stored.size();
         photonsAtDepthCap_ += counters.depthCapped.load();
         maps_[size_t(i)].build(std::move(stored));
