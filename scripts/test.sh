@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # README's second command: sets up what is missing, builds, and runs every test: the C++ tests
 # (ctest), the Python tests (pytest) and, when an OpenUSD build with imaging is found at
-# $GI_OPENUSD_ROOT (default /opt/openusd), the Hydra plugin's tests.
+# $GI_OPENUSD_ROOT (default /opt/openusd), the Hydra plugin's tests; its last line says whether
+# they ran (GI_REQUIRE_HYDRA=1 makes a missing OpenUSD build a failure).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -23,12 +24,19 @@ echo "== USD loader fuzzing: seed $fuzz_seed, $fuzz_seconds s (a crash leaves it
 .venv/bin/python tests/fuzz/fuzz_loader.py --seed "$fuzz_seed" --seconds "$fuzz_seconds" --out out/fuzz || status=1
 
 openusd=${GI_OPENUSD_ROOT:-/opt/openusd}
+hydra="Hydra plugin tests: ran against $openusd"
 if [ ! -f scripts/test-hydra.sh ]; then
-  echo "== Hydra plugin tests: none yet (the hdGi delegate is not in this revision)"
+  hydra="Hydra plugin tests: none (the hdGi delegate is not in this revision)"
 elif [ -f "$openusd/pxrConfig.cmake" ]; then
   echo "== Hydra plugin tests against $openusd"
-  bash scripts/test-hydra.sh "$openusd" || status=1
+  bash scripts/test-hydra.sh "$openusd" || { status=1; hydra="Hydra plugin tests: FAILED against $openusd"; }
 else
-  echo "== Hydra plugin tests skipped: no OpenUSD build with imaging at $openusd (set GI_OPENUSD_ROOT)"
+  hydra="Hydra plugin tests: SKIPPED, no OpenUSD build with imaging at $openusd (set GI_OPENUSD_ROOT)"
+  # A machine that has an OpenUSD build says so with GI_REQUIRE_HYDRA=1: then its absence fails.
+  if [ "${GI_REQUIRE_HYDRA:-0}" = "1" ]; then
+    hydra="$hydra; GI_REQUIRE_HYDRA=1, so this fails"
+    status=1
+  fi
 fi
+echo "== $hydra"
 exit $status
