@@ -1,7 +1,8 @@
 """Every technique on the untuned scenes of issue 15, at equal time, against a converged reference.
 
 Scenes: the glazed-window room with its sun and sky (all light through a 6 mm pane), the same room
-under the sky alone, Sponza under sun and sky, Sibenik under sun and sky through its window glass.
+under the sky alone, Sponza under sun and sky, Sibenik under sun and sky through its window glass,
+and the same with portal lights over its windows (sibenik-portals).
 For each: a reference (the path tracer, unbounded depth, for --reference-seconds; or, where a sun is
 seen only through glass and no path tracer converges, --glass-reference progressivePhotonMap, the
 consistent photon technique, checked against the path tracer on the sky-only room), then every
@@ -10,7 +11,7 @@ actually spent, mean / reference, RMSE on sRGB8, mean FLIP, the local-outlier sh
 beyond 4 sigma of the path tracer's block noise at the same time; gi.metrics.local_outlier_share)
 and the records or photons. Figures are from one run on a shared machine: compare within a table.
 
-    .venv/bin/python bench/untuned.py [--scenes room,room-sky,sponza,sibenik] [--resolution 128 96]
+    .venv/bin/python bench/untuned.py [--scenes room,room-sky,sponza,sibenik,sibenik-portals] [--resolution 128 96]
         [--seconds 5] [--reference-seconds 120] [--integrators path,irradianceCache,...]
 """
 import argparse
@@ -27,7 +28,8 @@ SKY_ONLY = ('#usda 1.0\n(\n    subLayers = [@{room}@]\n    renderSettingsPrimPat
 SCENES = {"room": (ROOT / "scenes/window_room/window_room.usda", True),
           "room-sky": (None, False),
           "sponza": (ROOT / "scenes/sponza/sponza.usda", False),
-          "sibenik": (ROOT / "scenes/sibenik/sibenik_sky.usda", True)}
+          "sibenik": (ROOT / "scenes/sibenik/sibenik_sky.usda", True),
+          "sibenik-portals": (ROOT / "scenes/sibenik/sibenik_sky_portals.usda", True)}
 TECHNIQUES = ["path", "irradianceCache", "adaptiveIrradianceCache", "photonMapIrradianceCache",
               "photonMapFinalGather", "progressivePhotonMap"]
 COUNTS = ["records", "globalMapPhotons", "causticMapPhotons", "photonsStored"]

@@ -1,16 +1,17 @@
 """Prints the UsdLux rect lights of scenes/sibenik/sibenik.usda: one in each window opening of the
 cathedral, measured from the window glass (extras/staklo.obj) and the stained glass of the rose
 window (sibenik.obj), facing inward, 5 cm inside the glass. Run once by hand; its output is pasted
-into sibenik.usda (the lights do not change unless the model does).
+into sibenik.usda (the lights do not change unless the model does). With --portals it prints
+UsdLux portal lights over the same openings instead, 5 cm outside the glass, light passing inward
+(for sibenik_sky_portals.usda).
 
-    .venv/bin/python scenes/sibenik/window_lights.py [ASSETS]   # default ../shared/assets"""
+    .venv/bin/python scenes/sibenik/window_lights.py [--portals] [ASSETS]   # default ../shared/assets"""
 import sys
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
-from gi import _core  # noqa: E402
+from gi import _core  # noqa: E402  (the installed package: scripts/build.sh)
 
 DOME_CENTER_X = 7.6   # the drum of the dome is centred on x = 7.6, z = 0
 INSET = 0.05          # metres inside the glass
@@ -76,7 +77,7 @@ def windows(pieces, gap=0.35):
     return [(n, np.concatenate(parts)) for n, _, _, _, parts in items]
 
 
-def rect(n, tris):
+def rect(n, tris, outside=False):
     up = np.array([0.0, 1.0, 0.0])
     z = -n                                  # a rect light emits along its -Z: inward
     x = np.cross(up, z)
@@ -84,12 +85,15 @@ def rect(n, tris):
     y = np.cross(z, x)
     p = tris.reshape(-1, 3)
     u, v, w = p @ x, p @ y, p @ n
-    center = x * (u.min() + u.max()) / 2 + y * (v.min() + v.max()) / 2 + n * (w.max() + INSET)
+    depth = w.min() - INSET if outside else w.max() + INSET
+    center = x * (u.min() + u.max()) / 2 + y * (v.min() + v.max()) / 2 + n * depth
     return x, y, z, center, float(u.max() - u.min()), float(v.max() - v.min())
 
 
 def main():
-    assets = Path(sys.argv[1] if len(sys.argv) > 1 else "../shared/assets") / "sibenik"
+    args = [a for a in sys.argv[1:] if a != "--portals"]
+    portals = "--portals" in sys.argv[1:]
+    assets = Path(args[0] if args else "../shared/assets") / "sibenik"
     glass = triangles(_core.read_obj(str(assets / "extras" / "staklo.obj"))["meshes"][0])
     cathedral = _core.read_obj(str(assets / "sibenik.obj"))
     names = [m["name"] for m in cathedral["materials"]]
@@ -98,9 +102,11 @@ def main():
     found = [w for w in found if rect(*w)[4] * rect(*w)[5] > 0.02]
     found.sort(key=lambda w: tuple(np.round(rect(*w)[3], 2)))
     for i, w in enumerate(found):
-        x, y, z, c, width, height = rect(*w)
+        x, y, z, c, width, height = rect(*w, outside=portals)
         rows = ", ".join("(" + ", ".join(f"{v:.6g}" for v in (*axis, 0.0)) + ")" for axis in (x, y, z))
-        print(f'        def RectLight "Window_{i:02d}" (prepend apiSchemas = ["ShadowAPI"])\n        {{\n'
+        kind = 'PortalLight "Portal' if portals else 'RectLight "Window'
+        schemas = "" if portals else ' (prepend apiSchemas = ["ShadowAPI"])'
+        print(f'        def {kind}_{i:02d}"{schemas}\n        {{\n'
               f'            float inputs:width = {width:.3f}\n            float inputs:height = {height:.3f}\n'
               f'            matrix4d xformOp:transform = ( {rows}, ({c[0]:.4f}, {c[1]:.4f}, {c[2]:.4f}, 1) )\n'
               f'            uniform token[] xformOpOrder = ["xformOp:transform"]\n        }}\n')
