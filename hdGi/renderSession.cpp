@@ -43,6 +43,8 @@ HdGiSessionStats HdGiRenderSession::Stats() const {
 void HdGiRenderSession::Run() {
     auto start = Clock::now();
     HdGiRenderJob job = _job;
+    // The render ends by the time limit, the scene build included, as in `gi render`.
+    double const deadline = job.settings.timeLimit > 0 ? gi::steadySeconds() + job.settings.timeLimit : 0;
     HdGiSessionStats stats;
     if (job.aovs.empty() || job.dataWindow.IsEmpty()) return;
 
@@ -78,10 +80,13 @@ void HdGiRenderSession::Run() {
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
             continue;
         }
-        int count = std::min(pass, target - taken);
-        if (!renderer->renderPass(taken, count, _cancel)) continue;  // paused or stopped mid-pass
-        taken += count;
-        bool timeUp = settings.timeLimit > 0 && SecondsSince(start) >= settings.timeLimit;
+        // Passes sized from the measured rate so the last one ends at the deadline (render.h).
+        int count = renderer->passSamplesBefore(deadline, std::min(pass, target - taken));
+        gi::PassEnd end = renderer->renderPass(taken, count, deadline, _cancel);
+        // A pass split into chunks (progressivePhotonMap) keeps the chunks it finished.
+        taken = renderer->samplesTaken();
+        if (end == gi::PassEnd::Cancelled) continue;  // paused or stopped mid-pass: redone
+        bool timeUp = end == gi::PassEnd::Deadline || (deadline > 0 && gi::steadySeconds() >= deadline);
         converged = taken >= target || timeUp;
         if (stats.firstPixelSeconds == 0) stats.firstPixelSeconds = SecondsSince(start);
         _WriteAovs(*renderer, job, converged);

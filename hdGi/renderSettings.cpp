@@ -52,6 +52,10 @@ TfToken const& HdGiSettingsTokens::TimeLimit() {
     static TfToken t("gi:timeLimit");
     return t;
 }
+TfToken const& HdGiSettingsTokens::Preset() {
+    static TfToken t("gi:preset");
+    return t;
+}
 TfToken HdGiSettingsTokens::Param(std::string const& integrator, std::string const& param) {
     return TfToken("gi:" + integrator + ":" + param);
 }
@@ -64,6 +68,9 @@ HdRenderSettingDescriptorList HdGiSettingDescriptors() {
     list.push_back({"Samples per pixel", HdRenderSettingsTokens->convergedSamplesPerPixel, VtValue(kDefaultSamples)});
     list.push_back({"Seed", HdGiSettingsTokens::Seed(), VtValue(0)});
     list.push_back({"Time limit (seconds, 0 = none)", HdGiSettingsTokens::TimeLimit(), VtValue(0.0f)});
+    std::string presets;
+    for (gi::Preset const& p : gi::presets()) presets += (presets.empty() ? "" : ", ") + p.name;
+    list.push_back({"Preset (" + presets + "; empty = the defaults)", HdGiSettingsTokens::Preset(), VtValue(std::string())});
     for (gi::IntegratorInfo const& info : gi::integratorRegistry())
         for (gi::ParamInfo const& p : info.params)
             list.push_back({info.name + ": " + p.name + " (" + p.description + ")",
@@ -87,11 +94,19 @@ gi::RenderSettings HdGiReadSettings(HdRenderDelegate const& delegate) {
                 : kDefaultSamples;
     s.seed = ToDouble(delegate.GetRenderSetting(HdGiSettingsTokens::Seed()), &v) && v >= 0 ? uint32_t(v) : 0;
     s.timeLimit = ToDouble(delegate.GetRenderSetting(HdGiSettingsTokens::TimeLimit()), &v) && v > 0 ? v : 0;
+    std::string preset = ToString(delegate.GetRenderSetting(HdGiSettingsTokens::Preset()));
+    if (!preset.empty() && !gi::findPreset(preset)) TF_WARN("hdGi: render setting gi:preset: unknown preset '%s'; ignored", preset.c_str());
+    else s.preset = preset;
     for (gi::ParamInfo const& p : info->params) {
         VtValue value = delegate.GetRenderSetting(HdGiSettingsTokens::Param(info->name, p.name));
         if (value.IsEmpty()) continue;
-        if (ToDouble(value, &v)) s.params.set(p.name, v);
-        else TF_WARN("hdGi: render setting %s: not a number; using %g", HdGiSettingsTokens::Param(info->name, p.name).GetText(), p.defaultValue);
+        if (!ToDouble(value, &v)) {
+            TF_WARN("hdGi: render setting %s: not a number; using %g", HdGiSettingsTokens::Param(info->name, p.name).GetText(), p.defaultValue);
+            continue;
+        }
+        // Every setting holds its default from the start (HdRenderDelegate fills them in), so
+        // one at its default leaves the preset's value; compared at the setting's own precision.
+        if (s.preset.empty() || Typed(p, v) != Typed(p, p.defaultValue)) s.params.set(p.name, v);
     }
     return s;
 }

@@ -15,6 +15,7 @@ struct HdGiSettingsTokens {
     static TfToken const& Integrator();
     static TfToken const& Seed();
     static TfToken const& TimeLimit();
+    static TfToken const& Preset();
     static TfToken Param(std::string const& integrator, std::string const& param);
 };
 
