@@ -62,3 +62,15 @@ def test_every_technique_matches_the_path_traced_reference(sky_room, reference, 
     print(f"{integrator}: mean / reference {ratio:.4f}, outlier blocks {outliers:.3f} (path {path_outliers:.3f})")
     assert abs(ratio - 1) < 0.02
     assert outliers <= path_outliers
+
+
+def test_progressive_photon_map_converges(sky_room, reference):
+    """Consistency: the progressive photon map's error against the path-traced reference falls as
+    samples (iterations, each a new photon map with a smaller radius) are added (a fixed photon
+    map levels off at its bias). Measured RMSE at 4, 16 and 64 spp: 0.0117, 0.0059, 0.0044; the
+    last step is smaller because the 2048-spp reference's own noise is part of what is measured,
+    so the test asks for a halving over the first step and a fall over the second."""
+    errors = [float(np.sqrt(np.mean((render(sky_room, "progressivePhotonMap", spp) - reference) ** 2)))
+              for spp in (4, 16, 64)]
+    print("progressivePhotonMap RMSE at 4, 16, 64 spp:", [f"{e:.5f}" for e in errors])
+    assert errors[1] < 0.6 * errors[0] and errors[2] < errors[1]
