@@ -23,10 +23,8 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 
-SKY_ONLY = ('#usda 1.0\n(\n    subLayers = [@{room}@]\n    renderSettingsPrimPath = "/Render/Settings"\n)\n'
-            'over "World"\n{{\n    over "Sun" (active = false)\n    {{\n    }}\n}}\n')
 SCENES = {"room": (ROOT / "scenes/window_room/window_room.usda", True),
-          "room-sky": (None, False),
+          "room-sky": (ROOT / "scenes/window_room/window_room_sky.usda", False),
           "sponza": (ROOT / "scenes/sponza/sponza.usda", False),
           "sibenik": (ROOT / "scenes/sibenik/sibenik_sky.usda", True),
           "sibenik-portals": (ROOT / "scenes/sibenik/sibenik_sky_portals.usda", True)}
@@ -59,9 +57,6 @@ def main():
     resolution = tuple(args.resolution)
     for name in args.scenes.split(","):
         path, glass = SCENES[name]
-        if name == "room-sky":
-            path = Path("/tmp") / f"gi-bench-room-sky-{id(args)}.usda"
-            path.write_text(SKY_ONLY.format(room=SCENES["room"][0]))
         loaded = load_stage(str(path))
         ref_integrator = args.glass_reference if glass else "path"
         reference, ref_stats, ref_wall = render(loaded, ref_integrator, resolution, 1 << 24, args.reference_seconds,

@@ -10,27 +10,11 @@ from conftest import ROOT
 from gi import _core
 from gi.loader import load_stage
 
-ROOM = ROOT / "scenes" / "window_room" / "window_room.usda"
-PORTAL = """    def PortalLight "WindowPortal"
-    {
-        float inputs:width = 2
-        float inputs:height = 1.2
-        double3 xformOp:translate = (0, 1.6, 0.02)
-        uniform token[] xformOpOrder = ["xformOp:translate"]
-    }
-"""
+ROOMS = ROOT / "scenes" / "window_room"
 
 
-def variant(tmp_path, name, portal, pane=True, sun=False):
-    body = PORTAL if portal else ""
-    if not pane:
-        body += '    over "Pane" (active = false)\n    {\n    }\n'
-    if not sun:
-        body += '    over "Sun" (active = false)\n    {\n    }\n'
-    path = tmp_path / f"{name}.usda"
-    path.write_text(f'#usda 1.0\n(\n    subLayers = [@{ROOM}@]\n    renderSettingsPrimPath = "/Render/Settings"\n)\n'
-                    f'over "World"\n{{\n{body}}}\n')
-    return load_stage(str(path))
+def room(name):
+    return load_stage(str(ROOMS / f"{name}.usda"))
 
 
 def render(loaded, integrator, spp, seed):
@@ -42,10 +26,10 @@ def render(loaded, integrator, spp, seed):
     return np.asarray(result.color), result.stats
 
 
-def test_portal_guides_the_path_tracer_without_changing_its_mean(tmp_path):
+def test_portal_guides_the_path_tracer_without_changing_its_mean():
     results = {}
     for portal in (False, True):
-        loaded = variant(tmp_path, f"open{portal}", portal, pane=False)
+        loaded = room("window_room_open_portal" if portal else "window_room_open")
         a, _ = render(loaded, "path", 32, 1)
         assert loaded.scene.stats()["portals"] == (1 if portal else 0)
         b, _ = render(loaded, "path", 32, 2)
@@ -60,10 +44,10 @@ def test_portal_guides_the_path_tracer_without_changing_its_mean(tmp_path):
 
 
 @pytest.mark.parametrize("integrator", ["photonMapFinalGather", "progressivePhotonMap"])
-def test_photons_through_a_portal_keep_the_mean(tmp_path, integrator):
+def test_photons_through_a_portal_keep_the_mean(integrator):
     means = {}
     for portal in (False, True):
-        loaded = variant(tmp_path, f"glazed{portal}", portal, sun=True)
+        loaded = room("window_room_portal" if portal else "window_room")
         image, stats = render(loaded, integrator, 4, 1)
         means[portal] = image.mean()
     print(f"{integrator}: without portal {means[False]:.5f}, with {means[True]:.5f}")

@@ -15,7 +15,7 @@ from conftest import ROOT
 from gi import _core, metrics
 from gi.loader import load_stage
 
-ROOM = ROOT / "scenes" / "window_room" / "window_room.usda"
+SKY_ROOM = ROOT / "scenes" / "window_room" / "window_room_sky.usda"
 SIZE = (64, 48)
 REFERENCE_SPP = 2048   # mean's relative noise ~0.2% (two 1024-spp halves differ by < 0.5%)
 SPP = 8
@@ -24,11 +24,8 @@ TECHNIQUES = ["irradianceCache", "adaptiveIrradianceCache", "photonMapIrradiance
 
 
 @pytest.fixture(scope="module")
-def sky_room(tmp_path_factory):
-    layer = tmp_path_factory.mktemp("room") / "sky_only.usda"
-    layer.write_text(f'#usda 1.0\n(\n    subLayers = [@{ROOM}@]\n    renderSettingsPrimPath = "/Render/Settings"\n)\n'
-                     'over "World"\n{\n    over "Sun" (active = false)\n    {\n    }\n}\n')
-    return load_stage(str(layer))
+def sky_room():
+    return load_stage(str(SKY_ROOM))
 
 
 def render(loaded, integrator, spp, seed=1):
