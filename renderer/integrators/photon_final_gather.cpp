@@ -8,6 +8,7 @@ namespace gi {
 PhotonMapFinalGatherIntegrator::PhotonMapFinalGatherIntegrator(const PhotonFinalGatherSettings& settings)
     : DirectIntegrator(settings.rayDepth, settings.lightSamples), settings_(settings) {
     settings_.photons.globalKeepsDirectAndCaustic = true;
+    settings_.photons.globalLeavesOutDirect = settings.gatherDirectLight;
     settings_.photons.precomputeIrradiance = true;
     settings_.photons.rayDepth = settings.rayDepth;
 }
@@ -55,6 +56,8 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
         if (si.emissiveLight < 0 && si.material->isEmissive() && (si.doubleSided || dot(ray.d, si.ng) < 0))
             L += weight * si.material->emission(si.uv);
         ShadingPoint sp = makeShadingPoint(si, -ray.d);
+        if (settings_.gatherDirectLight && sp.bsdf.hasNonDelta())
+            L += weight * sampleDirectLight(scene, sp, sampler, stats, false);
         Color reflectance = sp.bsdf.diffuseReflectance();
         if (!isBlack(reflectance)) {
             PhotonLookup at = PhotonLookup::at(sp, scene);

@@ -34,6 +34,9 @@ struct PhotonMapSettings {
     // direct light by light sampling and caustics from the caustic map, so its global map
     // holds only photons that have bounced off a non-specular surface.
     bool globalKeepsDirectAndCaustic = true;
+    // ... except direct photons when set (final gathering that light-samples direct light at
+    // its gather points).
+    bool globalLeavesOutDirect = false;
     // Christensen's (2000) precomputed irradiance for final gathering: the global map's
     // estimate at every 4th photon (Christensen's choice), so that a gather ray reads one
     // nearest photon instead of a k-nearest estimate. At most kMaxIrradiancePhotons of them:

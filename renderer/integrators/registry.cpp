@@ -127,13 +127,17 @@ std::vector<IntegratorInfo> buildRegistry() {
         "photonMapFinalGather",
         "photon mapping with final gathering: direct light, caustics from the caustic map, gather rays into the global map",
         {kPhotons, kCausticPhotons, kPhotonDepth, intParam("gatherPhotons", 50, 2, 100000, "photons per density estimate (k nearest)"),
-         kMaxGatherRadius, kFinalGatherSamples, kFinalGatherDepth, kRayDepth, kLightSamples},
+         kMaxGatherRadius, kFinalGatherSamples, kFinalGatherDepth,
+         ParamInfo{"gatherDirectLight", "bool", 1, 0, 1,
+                   "light-sample the direct light at gather hits, the photon map giving the rest (0: all from the map, as the thesis)"},
+         kRayDepth, kLightSamples},
         nullptr};
     finalGather.create = [info = finalGather](const ParamSet& p) -> std::unique_ptr<Integrator> {
         PhotonFinalGatherSettings s;
         s.photons = photonMapSettings(info, p);
         s.finalGatherSamples = int(paramValue(info, p, "finalGatherSamples"));
         s.finalGatherDepth = int(paramValue(info, p, "finalGatherDepth"));
+        s.gatherDirectLight = paramValue(info, p, "gatherDirectLight") != 0;
         s.rayDepth = int(paramValue(info, p, "rayDepth"));
         s.lightSamples = int(paramValue(info, p, "lightSamples"));
         return std::make_unique<PhotonMapFinalGatherIntegrator>(s);
@@ -192,6 +196,7 @@ std::vector<Preset> buildPresets() {
             p.params[cache] = {{"paths", 108}, {"pathDepth", depth}, {"rayDepth", depth}};
         p.params["photonMapFinalGather"] = {{"photons", 500000}, {"causticPhotons", 500000}, {"photonDepth", depth},
                                             {"finalGatherSamples", gatherSamples}, {"finalGatherDepth", depth},
+                                            {"gatherDirectLight", 0},
                                             {"rayDepth", depth}};
         p.params["photonMapIrradianceCache"] = {{"photons", 500000}, {"causticPhotons", 500000}, {"photonDepth", depth},
                                                 {"paths", 120}, {"pathDepth", depth}, {"rayDepth", depth}};
