@@ -29,6 +29,13 @@ struct Portal {
     float intersect(const Vec3& o, const Vec3& d) const;
 };
 
+class Scene;
+struct LightDesc;
+// A portal from a UsdLux PortalLight's descriptor, checked against the committed geometry:
+// finite, of positive size, and its +Z side (where the light comes from) seeing more sky than its
+// -Z side. Otherwise warns on the scene, naming the prim, and returns false.
+bool makePortal(const Scene& scene, const LightDesc& desc, Portal& portal);
+
 class PortalSet {
 public:
     PortalSet() = default;

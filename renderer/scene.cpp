@@ -359,42 +359,6 @@ void Scene::commit() {
     committed_ = true;
 }
 
-// A portal over an opening, checked: finite, of positive size, light on its +Z side reaching
-// the sky more often than on its -Z (interior) side, which shows it faces the right way.
-bool Scene::makePortal(const LightDesc& d, Portal& portal) const {
-    const Mat4& m = d.transform;
-    portal.name = d.name;
-    portal.corner = m.point(Vec3(-d.width / 2, -d.height / 2, 0));
-    portal.e1 = m.vector(Vec3(d.width, 0, 0));
-    portal.e2 = m.vector(Vec3(0, d.height, 0));
-    Vec3 n = cross(portal.e1, portal.e2);
-    portal.area = length(n);
-    if (!isFinite(portal.corner) || !isFinite(n) || !(portal.area > 0) || !std::isfinite(portal.area)) {
-        warn("portal " + d.name + ": zero size, or NaN/Inf in its size or transform; ignored");
-        return false;
-    }
-    n = n / portal.area;
-    portal.travel = dot(n, m.vector(Vec3(0, 0, -1))) < 0 ? -n : n;  // UsdLux: light passes along -Z
-    constexpr int kProbes = 32;
-    int escapesOutward = 0, escapesInward = 0;
-    Frame frame(portal.travel);
-    RayStats stats;
-    Vec3 c = portal.center();
-    float lift = 1e-4f * (1 + length(c)) + 1e-3f * std::sqrt(portal.area);
-    for (int i = 0; i < kProbes; ++i) {
-        Vec2 u((i + 0.5f) / kProbes, std::fmod(i * 0.618034f, 1.0f));
-        Vec3 d = frame.toWorld(sampleCosineHemisphere(u));  // into the interior side
-        escapesInward += !occluded(c + d * lift, d, kInf, stats);
-        escapesOutward += !occluded(c - d * lift, -d, kInf, stats);
-    }
-    if (escapesOutward < escapesInward) {
-        warn("portal " + d.name + ": faces the wrong way (its -Z side, where the light would go, sees more sky than its "
-             "+Z side); ignored");
-        return false;
-    }
-    return true;
-}
-
 void Scene::buildLights() {
     std::vector<Portal> portals;
     bool hasDome = false;
@@ -403,7 +367,7 @@ void Scene::buildLights() {
         if (d.kind != "portal") continue;
         Portal portal;
         if (!hasDome) warn("portal " + d.name + ": no dome light to guide; ignored");
-        else if (makePortal(d, portal)) portals.push_back(portal);
+        else if (makePortal(*this, d, portal)) portals.push_back(portal);
     }
     for (const LightDesc& d : lightDescs_) {
         if (d.kind == "portal") continue;

@@ -142,7 +142,6 @@ private:
     };
 
     void buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, int shapeId);
-    bool makePortal(const LightDesc& desc, Portal& portal) const;
     void buildLights();
     void buildLightBvh();
     // The nearest analytic light (rect, disk, sphere, cylinder) along `ray` before its tMax.
