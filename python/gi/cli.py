@@ -62,12 +62,21 @@ class IntegratorFlags:
     """Command-line flags generated from every integrator's parameter list."""
 
     def __init__(self, catalog):
-        self.params = {}   # camelCase name -> its description (the first integrator declaring it wins)
-        self.owners = {}   # integrator name -> names of the parameters it takes
+        self.params = {}    # camelCase name -> its description (the first integrator declaring it wins)
+        self.owners = {}    # integrator name -> names of the parameters it takes
+        self.defaults = {}  # camelCase name -> {integrator: its own default}
         for integrator in catalog:
             self.owners[integrator["name"]] = {p["name"] for p in integrator["params"]}
             for param in integrator["params"]:
                 self.params.setdefault(param["name"], param)
+                self.defaults.setdefault(param["name"], {})[integrator["name"]] = param["default"]
+
+    def default_text(self, name):
+        """'default 5' when every integrator that takes it agrees, else each one's own default."""
+        values = self.defaults[name]
+        if len(set(map(str, values.values()))) == 1:
+            return f"default {next(iter(values.values()))}; {', '.join(sorted(values))}"
+        return "defaults: " + ", ".join(f"{integrator} {value}" for integrator, value in sorted(values.items()))
 
     def users(self, name):
         return sorted(i for i, names in self.owners.items() if name in names)
@@ -78,8 +87,8 @@ class IntegratorFlags:
         for name, param in sorted(self.params.items()):
             # default=None tells "not given" apart, so the integrator's own default applies.
             options = dict(dest=f"param_{name}", default=None,
-                           help=f"{param['description']} (default {param['default']}, "
-                                f"{param['min']}..{param['max']}; {', '.join(self.users(name))})")
+                           help=f"{param['description']} ({param['min']}..{param['max']}; "
+                                f"{self.default_text(name)})")
             if param["type"] == "bool":
                 options["action"] = argparse.BooleanOptionalAction
             else:
@@ -87,13 +96,17 @@ class IntegratorFlags:
             group.add_argument(f"--{kebab(name)}", **options)
 
     def chosen(self, args, parser):
-        """{name: value} of the given flags the chosen integrator takes; warns about the others."""
+        """{name: value} of the given flags; a flag the chosen integrator does not take is an error
+        (a typo or a flag meant for another integrator must not render something else silently)."""
         given = {key[len("param_"):]: value for key, value in vars(args).items()
                  if key.startswith("param_") and value is not None}
         takes = self.owners.get(args.integrator, set())
-        for name in sorted(set(given) - takes):
-            warn(f"--{kebab(name)} is not a parameter of '{args.integrator}'; ignored")
-        chosen = {name: value for name, value in given.items() if name in takes}
+        foreign = sorted(set(given) - takes)
+        if foreign:
+            parser.error(", ".join(f"--{kebab(name)}" for name in foreign) +
+                         f" {'is not a parameter' if len(foreign) == 1 else 'are not parameters'} of "
+                         f"'{args.integrator}' (it takes: {', '.join('--' + kebab(n) for n in sorted(takes))})")
+        chosen = dict(given)
         for name, value in chosen.items():
             low, high = self.params[name]["min"], self.params[name]["max"]
             if not low <= value <= high:

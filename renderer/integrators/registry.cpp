@@ -257,7 +257,8 @@ double paramValue(const IntegratorInfo& info, const ParamSet& params, const std:
             if (!std::isfinite(v)) v = p.defaultValue;
             return std::clamp(v, p.minValue, p.maxValue);
         }
-    return 0;
+    // Only the registry's own create functions read parameters, by the names they declare.
+    throw std::logic_error("integrator " + info.name + " has no parameter '" + name + "'");
 }
 
 }  // namespace gi

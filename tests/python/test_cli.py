@@ -23,10 +23,18 @@ def test_render_writes_exr_png_and_summary(cornell, tmp_path):
     assert png.shape == (64, 64, 3)
 
 
-def test_flag_of_another_integrator_warns(cornell, tmp_path):
+def test_flag_of_another_integrator_is_an_error(cornell, tmp_path):
     proc = run_gi("render", cornell, "--integrator", "direct", "--spp", 1, "--resolution", 16, 16,
-                  "--path-depth", 3, "-o", tmp_path / "d.exr", "--no-png")
+                  "--path-depth", 3, "-o", tmp_path / "d.exr", "--no-png", check=False)
+    assert proc.returncode == 2
     assert "--path-depth is not a parameter of 'direct'" in proc.stderr
+    assert not (tmp_path / "d.exr").exists()
+
+
+def test_help_shows_each_integrators_own_default():
+    help_text = " ".join(run_gi("render", "--help").stdout.split())
+    # `paths` means camera-hit paths for the path tracer and record paths for the caches.
+    assert "path 1" in help_text and "irradianceCache 108" in help_text and "photonMapIrradianceCache 120" in help_text
 
 
 def test_inspect_lists_what_the_scene_needs(cornell):

@@ -556,12 +556,15 @@ def test_integrator_flags_are_generated_from_the_catalog(capsys):
     from gi.cli import kebab
     assert kebab("pathDepth") == "path-depth" and kebab("photonRadius") == "photon-radius"
     parser, flags = flag_parser()
-    args = parser.parse_args(["--path-depth", "7", "--no-use-mis", "--photon-radius", "0.5"])
+    args = parser.parse_args(["--path-depth", "7", "--no-use-mis"])
     assert flags.chosen(args, parser) == {"pathDepth": 7, "useMis": False}
+    # A flag the chosen integrator does not take is a usage error naming it.
+    with pytest.raises(SystemExit):
+        flags.chosen(parser.parse_args(["--path-depth", "7", "--photon-radius", "0.5"]), parser)
     assert "--photon-radius is not a parameter of 'path'" in capsys.readouterr().err
     args = parser.parse_args(["--integrator", "photons", "--photon-radius", "0.5"])
     assert flags.chosen(args, parser) == {"photonRadius": 0.5}
-    assert "depth (default 5, 0..1024; path)" in parser.format_help().replace("\n", " ").replace("  ", " ")
+    assert "depth (0..1024; default 5; path)" in parser.format_help().replace("\n", " ").replace("  ", " ")
 
 
 def test_integrator_flag_out_of_range_is_a_usage_error():
