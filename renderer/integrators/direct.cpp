@@ -40,12 +40,7 @@ Color DirectIntegrator::trace(const Ray& cameraOrBranch, const Scene& scene, Sam
             }
             return L;
         }
-        Color picked;
-        int pick = pickDeltaBranch(branches, n, sampler.get1D(), &picked);
-        if (pick < 0) return L;
-        weight *= picked;
-        if (!isFinite(weight) || isBlack(weight)) return L;
-        ray = spawnRay(sp.si, sp.frame.toWorld(branches[pick].wi));
+        if (!followDeltaBranch(sp, branches, n, sampler.get1D(), weight, ray)) return L;
     }
 }
 

@@ -78,12 +78,7 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
         BsdfSample branches[3];
         int n = sp.bsdf.deltaBranches(sp.woLocal, branches);
         if (n == 0 || depthLimitReached(vertex, settings_.finalGatherDepth, stats)) return L;
-        Color picked;
-        int pick = pickDeltaBranch(branches, n, sampler.get1D(), &picked);
-        if (pick < 0) return L;
-        weight *= picked;
-        if (!isFinite(weight) || isBlack(weight)) return L;
-        ray = spawnRay(sp.si, sp.frame.toWorld(branches[pick].wi));
+        if (!followDeltaBranch(sp, branches, n, sampler.get1D(), weight, ray)) return L;
     }
 }
 

@@ -34,6 +34,20 @@ inline int pickDeltaBranch(const BsdfSample* branches, int n, float u, Color* we
     return -1;
 }
 
+// Continues a path through one of sp's n delta branches, picked by pickDeltaBranch: multiplies
+// `weight` by its weight over its probability and points `ray` along it. False when the path ends
+// there (roulette, or a weight that is no longer finite and positive).
+inline bool followDeltaBranch(const ShadingPoint& sp, const BsdfSample* branches, int n, float u, Color& weight,
+                              Ray& ray) {
+    Color picked;
+    int pick = pickDeltaBranch(branches, n, u, &picked);
+    if (pick < 0) return false;
+    weight *= picked;
+    if (!isFinite(weight) || isBlack(weight)) return false;
+    ray = spawnRay(sp.si, sp.frame.toWorld(branches[pick].wi));
+    return true;
+}
+
 // Calls visit(shadingPoint) for each such point, in a fixed (depth-first, branch) order.
 template <class Visit>
 void forEachDiffuseHit(const Scene& scene, Ray ray, Sampler& sampler, RayStats& stats, int rayDepth,
@@ -52,10 +66,8 @@ void forEachDiffuseHit(const Scene& scene, Ray ray, Sampler& sampler, RayStats& 
                                   visit, specularDepth + 1);
             return;
         }
-        Color weight;
-        int pick = pickDeltaBranch(branches, n, sampler.get1D(), &weight);
-        if (pick < 0) return;
-        ray = spawnRay(sp.si, sp.frame.toWorld(branches[pick].wi));
+        Color weight(1.0f);
+        if (!followDeltaBranch(sp, branches, n, sampler.get1D(), weight, ray)) return;
     }
 }
 
