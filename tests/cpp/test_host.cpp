@@ -37,6 +37,12 @@ int litFloor(Scene& scene, int material) {
     return floor;
 }
 
+// The lit floor alone, in grey, committed.
+void commitLitFloor(Scene& scene) {
+    litFloor(scene, scene.addMaterial(lambert(Color(0.5f))));
+    scene.commit();
+}
+
 RenderSettings smallImage(int size, int spp) {
     RenderSettings settings;
     settings.width = settings.height = size;
@@ -94,9 +100,7 @@ TEST(Host, FilmReportsShapeAndInstanceIds) {
 
 TEST(Host, CancelledPassLeavesTheFilmAsItWas) {
     Scene scene;
-    int white = scene.addMaterial(lambert(Color(0.5f)));
-    litFloor(scene, white);
-    scene.commit();
+    commitLitFloor(scene);
     Renderer renderer(scene, smallImage(32, 4));
     ASSERT_TRUE(renderer.renderPass(0, 1));
     std::vector<float> before = renderer.film().color();
@@ -157,9 +161,7 @@ TEST(Host, DeadlineCutPassKeepsFinishedPixelsUnbiased) {
 
 TEST(Host, DeadlinePassedRendersNothingAndCancelStillDiscards) {
     Scene scene;
-    int white = scene.addMaterial(lambert(Color(0.5f)));
-    litFloor(scene, white);
-    scene.commit();
+    commitLitFloor(scene);
     Renderer renderer(scene, smallImage(32, 4));
     ASSERT_TRUE(renderer.renderPass(0, 1));
     std::vector<float> before = renderer.film().color();
@@ -178,9 +180,7 @@ TEST(Host, DeadlinePassedRendersNothingAndCancelStillDiscards) {
 
 TEST(Host, TimeLimitIsKept) {
     Scene scene;
-    int white = scene.addMaterial(lambert(Color(0.5f)));
-    litFloor(scene, white);
-    scene.commit();
+    commitLitFloor(scene);
     RenderSettings settings = smallImage(64, 1 << 24);
     settings.timeLimit = 0.5;
     double start = steadySeconds();
