@@ -31,6 +31,7 @@ import numpy as np
 VARIANT = "llvm_ad_rgb"
 SUN_MAP_WIDTH = 4096          # lat-long map columns: 0.088 degrees a pixel, the 0.53 degree sun ~6 pixels wide
 SUN_SUPERSAMPLES = 16         # per pixel side, for the disc's coverage of each pixel
+SMOOTH_ALPHA = 1e-3           # gi's GGX::kSmoothAlpha: below it a lobe is a perfect mirror / refraction
 
 
 class ConversionError(Exception):
@@ -196,26 +197,38 @@ def bsdf_dict(mi, material):
     diffuse = (bitmap_texture(mi, material.diffuse_color_texture, name)
                if texture_is_set(material.diffuse_color_texture) else rgb(np.minimum(material.diffuse_color, 1)))
     transmission = 1 - material.opacity if material.opacity_mode == "transparent" else 0.0
-    if transmission > 0:
-        if transmission < 1 or material.roughness > 0 or texture_is_set(material.diffuse_color_texture):
-            raise ConversionError(f"{name}: partial, rough or textured transmission is not converted")
-        return {"type": "dielectric", "int_ior": float(material.ior), "ext_ior": 1.0,
-                "specular_transmittance": rgb(np.minimum(material.diffuse_color, 1))}
+    if transmission <= 0:
+        return {"type": "twosided", "bsdf": opaque_lobes(material, diffuse)}
+    if texture_is_set(material.diffuse_color_texture):
+        raise ConversionError(f"{name}: textured transmission is not converted")
+    # gi: opaque lobes (front side only: a transmitting surface is not flipped) weighted 1 - t,
+    # a dielectric weighted t whose transmission is tinted by the diffuse colour.
+    dielectric = {"type": "dielectric", "int_ior": float(material.ior), "ext_ior": 1.0,
+                  "specular_transmittance": rgb(np.minimum(material.diffuse_color, 1))}
+    alpha = material.roughness ** 2
+    if alpha >= SMOOTH_ALPHA:
+        dielectric.update(type="roughdielectric", distribution="ggx", alpha=float(alpha), sample_visible=True)
+    if transmission >= 1:
+        return dielectric
+    return {"type": "blendbsdf", "weight": float(transmission), "bsdf_0": opaque_lobes(material, diffuse),
+            "bsdf_1": dielectric}
+
+
+def opaque_lobes(material, diffuse):
+    """UsdPreviewSurface's opaque lobes: Lambert alone when there is no specular lobe."""
+    name = material.name
     if material.use_specular_workflow:
         f0 = np.minimum(np.asarray(material.specular_color, np.float64), 1)
         f90 = min(max(50.0 * f0.max(), 0.0), 1.0)   # gi's (Filament's) rule: black specular, no grazing lobe
-        albedo = diffuse
     else:
         r = (1 - material.ior) / (1 + material.ior)
         if material.metallic > 0:
             raise ConversionError(f"{name}: metallic > 0 is not converted")
-        f0, f90, albedo = np.full(3, r * r), 1.0, diffuse
+        f0, f90 = np.full(3, r * r), 1.0
     if is_black(f0) and f90 == 0:
-        inner = {"type": "diffuse", "reflectance": albedo}
-    else:
-        inner = {"type": "usd_specular_workflow", "diffuse": albedo, "f0": rgb(f0), "f90": float(f90),
-                 "roughness": float(material.roughness)}
-    return {"type": "twosided", "bsdf": inner}
+        return {"type": "diffuse", "reflectance": diffuse}
+    return {"type": "usd_specular_workflow", "diffuse": diffuse, "f0": rgb(f0), "f90": float(f90),
+            "roughness": float(material.roughness)}
 
 
 BLACK = {"type": "diffuse", "reflectance": {"type": "rgb", "value": 0.0}}
@@ -470,7 +483,7 @@ def register_specular_workflow_bsdf(mi, dr):
             self.f0 = mi.Color3f(props["f0"])
             self.f90 = props.get("f90", 1.0)
             self.alpha = max(props.get("roughness", 0.5) ** 2, 1e-4)
-            if self.alpha < 1e-3:
+            if self.alpha < SMOOTH_ALPHA:
                 raise ConversionError("usd_specular_workflow: smooth (roughness < 0.032) specular is not converted")
             self.distribution = mi.MicrofacetDistribution(mi.MicrofacetType.GGX, self.alpha, True)
             reflection = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.FrontSide
