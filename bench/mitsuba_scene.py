@@ -572,6 +572,52 @@ def register_specular_workflow_bsdf(mi, dr):
     _REGISTERED.append(True)
 
 
+def with_converted_normals(recorded):
+    """A copy of `recorded` whose meshes carry the vertex normals the Mitsuba scene gets
+    (shading_normals_as_gi): fed to gi, it tells a difference of normal conventions from one of
+    light transport."""
+    import copy
+    out = copy.copy(recorded)
+    out.shapes = []
+    for shape in recorded.shapes:
+        shape = copy.copy(shape)
+        if shape.normals is not None:
+            length = np.linalg.norm(shape.normals, axis=1, keepdims=True)
+            normals = np.where(length > 1e-6, shape.normals / np.maximum(length, 1e-30), 0.0)
+            shape.positions, indices, shape.normals, shape.uvs, _ = shading_normals_as_gi(
+                shape.positions, shape.indices.astype(np.int64), normals, shape.uvs)
+            shape.indices = indices.astype(np.uint32)
+        out.shapes.append(shape)
+    return out
+
+
+def gi_scene(recorded):
+    """A committed gi._core.Scene holding what `recorded` holds."""
+    from gi.descriptors import new_scene
+    scene = new_scene()
+    for material in recorded.materials:
+        scene.add_material(material)
+    for name in recorded.prototypes:
+        scene.add_prototype(name)
+
+    def array(values, dtype):
+        return None if values is None else np.ascontiguousarray(values, dtype)
+    for shape in recorded.shapes:
+        if shape.positions is None:
+            scene.add_sphere(shape.name, shape.center, shape.radius, shape.material, shape.transform, shape.prototype)
+        else:
+            scene.add_mesh(shape.name, array(shape.positions, np.float32), array(shape.indices, np.uint32),
+                           array(shape.normals, np.float32), array(shape.uvs, np.float32), shape.material,
+                           shape.transform, shape.double_sided, shape.prototype)
+    for prototype, transform in recorded.instances:
+        scene.add_instance(prototype, transform)
+    for light in recorded.lights:
+        scene.add_light(light)
+    scene.set_camera(recorded.camera)
+    scene.commit()
+    return scene
+
+
 def render(scene, spp, seed, threads):
     """(linear RGB float32 image, seconds) of one Mitsuba render; the scene's own sampler is reseeded."""
     import time
