@@ -5,12 +5,15 @@ gi's loader (gi.loader.load_stage) hands every mesh, sphere, material, light and
 scene object; RecordingScene keeps them, and mitsuba_scene() turns them into a Mitsuba scene:
 
 - meshes: mi.Mesh in world space (instances flattened), st's t flipped (Mitsuba's v runs down);
-- materials (UsdPreviewSurface as gi reads it, renderer/material.cpp, bsdf.cpp): opacity 0 in
-  "transparent" mode with roughness 0 -> `dielectric` whose transmission is tinted by the diffuse
-  colour (gi tints every refraction); black specular colour -> `diffuse`; otherwise (a specular
-  lobe) -> `usd_specular_workflow`, a Dr.Jit BSDF written here from UsdPreviewSurface's formulas
-  (Lambert * (1 - max F(view)) + GGX with Schlick Fresnel from F0/F90 and height-correlated Smith
-  masking); opaque BSDFs are `twosided` (gi shades the side the ray arrives on);
+  vertex normals that face away from (or lie in) their triangle: see shading_normals_as_gi;
+- materials (UsdPreviewSurface as gi reads it, renderer/material.cpp, bsdf.cpp): black specular
+  colour -> `diffuse`; otherwise (a specular lobe) -> `usd_specular_workflow`, a Dr.Jit BSDF
+  written here from UsdPreviewSurface's formulas (Lambert * (1 - max F(view)) + GGX with Schlick
+  Fresnel from F0/F90 and height-correlated Smith masking); opaque BSDFs are `twosided` (gi shades
+  the side the ray arrives on); opacity t < 1 in "transparent" mode -> `blendbsdf` of the opaque
+  lobes (1 - t) and a `dielectric` / `roughdielectric` (t) whose transmission is tinted by the
+  diffuse colour (gi tints every refraction; Mitsuba's rough dielectric masks with separable
+  rather than height-correlated Smith, a difference only at grazing angles);
 - lights: rect/disk/sphere -> shapes with an `area` emitter (one-sided, black behind, as gi's);
   dome and distant lights -> one `envmap` (Mitsuba allows one environment): the dome's radiance
   plus the sun's 0.53 degree disc painted into a lat-long map, its radiance set so the disc's
@@ -24,9 +27,10 @@ Anything the conversion cannot express (textured emission, normal maps, presence
 clearcoat, rough glass, aperture offsets, depth of field) raises ConversionError naming it: a
 silently different scene would make the comparison meaningless."""
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
+from gi.descriptors import CountingScene
 
 VARIANT = "llvm_ad_rgb"
 SUN_MAP_WIDTH = 4096          # lat-long map columns: 0.088 degrees a pixel, the 0.53 degree sun ~6 pixels wide
@@ -55,15 +59,14 @@ class Shape:
     radius: float = 0.0
 
 
-@dataclass
-class RecordingScene:
+class RecordingScene(CountingScene):
     """Takes what gi._core.Scene takes (the loader's calls) and keeps it."""
-    materials: list = field(default_factory=list)
-    shapes: list = field(default_factory=list)
-    prototypes: list = field(default_factory=list)
-    instances: list = field(default_factory=list)   # (prototype, transform)
-    lights: list = field(default_factory=list)
-    camera: object = None
+
+    def __init__(self):
+        super().__init__()
+        self.materials, self.shapes, self.prototypes, self.lights = [], [], [], []
+        self.instances = []   # (prototype, transform)
+        self.camera = None
 
     def add_material(self, material):
         self.materials.append(material)
@@ -95,15 +98,6 @@ class RecordingScene:
 
     def set_camera(self, camera):
         self.camera = camera
-
-    def commit(self):
-        pass
-
-    def warnings(self):
-        return []
-
-    def stats(self):
-        return {}
 
 
 def record(path, camera=None):

@@ -10,7 +10,9 @@ Per scene:
    The reference for step 2 is the mean of the two renderers' means.
 2. Equal time (--seconds each): camera samples per second, RMSE on 8-bit sRGB and mean FLIP against
    the reference, and the efficiency 1 / (MSE_sRGB8 * t), for gi's path tracer, Mitsuba's path
-   tracer and gi's --best technique. Ratios are gi over Mitsuba.
+   tracer and gi's --best technique. gi renders once with its time limit (which counts its
+   preprocessing: the photon passes of --best); Mitsuba renders batches of about t/8 until t has
+   passed. Ratios are gi over Mitsuba, by wall time and by process CPU time.
 
 Times are render times only: scene load and acceleration-structure build are excluded for both
 (and printed), and Mitsuba's kernels are compiled by a 1-spp warm-up render first. The machine is
@@ -74,6 +76,17 @@ class Gi:
         return color, clock
 
 
+    def render_for(self, seconds, integrator, seconds_per_sample):
+        """One render cut off by gi's own time limit: (image, Clock, camera samples)."""
+        from gi.cli import render_loaded, render_settings
+        settings = render_settings(self.loaded, integrator, {}, 1 << 20, 7, self.threads, seconds, self.resolution,
+                                   "box")
+        with Clock() as clock:
+            result = render_loaded(self.loaded, settings, integrator)
+            color = np.asarray(result.color, np.float32)[..., :3]
+        return color, clock, int(result.stats["camera_samples"])
+
+
 class Mitsuba:
     name = "mitsuba"
 
@@ -82,12 +95,24 @@ class Mitsuba:
         recorded, _ = mitsuba_scene.record(path)
         self.scene, self.approximated = mitsuba_scene.mitsuba_scene(recorded, resolution)
         self.build_seconds = time.perf_counter() - start
-        self.threads = threads
+        self.threads, self.pixels = threads, resolution[0] * resolution[1]
 
     def render(self, spp, seed, integrator="path"):
         with Clock() as clock:
             image, _ = mitsuba_scene.render(self.scene, spp, seed, self.threads)
         return image, clock
+
+    def render_for(self, seconds, integrator, seconds_per_sample):
+        """Renders of about seconds / 8 each (other seeds) until `seconds` have passed; their
+        spp-weighted mean: (image, Clock, camera samples)."""
+        batch = spp_for(seconds / 8, seconds_per_sample)
+        total, spp, seed = None, 0, 7
+        with Clock() as clock:
+            while time.perf_counter() - clock.wall < seconds:   # clock.wall: the start, until the block ends
+                image, _ = mitsuba_scene.render(self.scene, batch, seed, self.threads)
+                total = image * batch if total is None else total + image * batch
+                spp, seed = spp + batch, seed + 1
+        return total / spp, clock, spp * self.pixels
 
 
 def resolution_of(path, width):
@@ -143,15 +168,32 @@ def agreement(renderers, per_sample, converge_seconds):
 
 def equal_time(renderer, integrator, seconds, per_sample, reference, resolution):
     from gi import metrics
-    spp = spp_for(seconds, per_sample)
-    image, clock = renderer.render(spp, 7, integrator)
+    image, clock, samples = renderer.render_for(seconds, integrator, per_sample)
     rmse = metrics.rmse_srgb8(image, reference)
-    samples = resolution[0] * resolution[1] * spp
+    spp = samples / (resolution[0] * resolution[1])
     return {"who": f"{renderer.name} {integrator}", "spp": spp, "seconds": clock.wall, "cpu_seconds": clock.cpu,
             "samples_per_second": samples / clock.wall, "samples_per_cpu_second": samples / clock.cpu,
             "rmse_srgb8": rmse, "flip": metrics.flip(image, reference),
             "efficiency": 1 / (rmse * rmse * clock.wall), "cpu_efficiency": 1 / (rmse * rmse * clock.cpu),
             "mean_ratio": mean_luminance(image) / mean_luminance(reference)}
+
+
+def peak_memory_mb(renderer, name, width, threads):
+    """Peak resident memory (MB) of a fresh process that loads the scene and renders 16 spp with one
+    renderer: Python, USD and each renderer's libraries included, as a user's process would have."""
+    import subprocess
+    out = subprocess.run([sys.executable, __file__, "--peak-memory", renderer, "--scenes", name,
+                          "--width", str(width), "--threads", str(threads)],
+                         capture_output=True, text=True, check=True).stdout
+    return float(out.strip().splitlines()[-1])
+
+
+def probe_peak_memory(renderer, name, width, threads):
+    import resource
+    path = SCENES[name]
+    resolution = resolution_of(path, width)
+    (Gi if renderer == "gi" else Mitsuba)(path, resolution, threads).render(16, 1)
+    print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)   # Linux: kB
 
 
 def run_scene(name, path, args):
@@ -173,7 +215,9 @@ def run_scene(name, path, args):
                                                    (mi_renderer, "path", per_sample["mitsuba"]),
                                                    (gi_renderer, args.best, best_per_sample)):
         rows.append(equal_time(runner, integrator, args.seconds, seconds_per_sample, reference, resolution))
+    memory = {who: peak_memory_mb(who, name, args.width, args.threads) for who in ("gi", "mitsuba")}
     return {"scene": name, "resolution": resolution, "build": {r.name: r.build_seconds for r in renderers},
+            "memory": memory,
             "approximated": mi_renderer.approximated, "agreements": agreements, "rows": rows}
 
 
@@ -182,6 +226,8 @@ def report(result):
     print(f"\n### {result['scene']} ({w}x{h})")
     print(f"scene load + build: gi {result['build']['gi']:.1f} s, Mitsuba {result['build']['mitsuba']:.1f} s; "
           f"triangles Mitsuba shades flat or with turned normals (unlike gi): {result['approximated']}")
+    print(f"peak memory of a process loading and rendering 16 spp: gi {result['memory']['gi']:.0f} MB, "
+          f"Mitsuba {result['memory']['mitsuba']:.0f} MB")
     for a in result["agreements"]:
         print(f"agreement, {a['who']} / Mitsuba ({a['spp'][0]} / {a['spp'][1]} spp x 2 seeds): mean luminance ratio "
               f"{a['mean_ratio']:.4f} (RGB {', '.join(f'{v:.4f}' for v in a['rgb_ratio'])}); RMSE between them "
@@ -190,7 +236,7 @@ def report(result):
           "| 1/(MSE·t) | 1/(MSE·CPU t) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in result["rows"]:
-        print(f"| {r['who']} | {r['spp']} | {r['seconds']:.2f} | {r['cpu_seconds']:.2f} | "
+        print(f"| {r['who']} | {r['spp']:.0f} | {r['seconds']:.2f} | {r['cpu_seconds']:.2f} | "
               f"{r['samples_per_second'] / 1e3:.1f} k | {r['samples_per_cpu_second'] / 1e3:.1f} k | "
               f"{r['mean_ratio']:.3f} | {r['rmse_srgb8']:.2f} | {r['flip']:.4f} | {r['efficiency']:.4g} | "
               f"{r['cpu_efficiency']:.4g} |")
@@ -212,7 +258,11 @@ def main(argv=None):
     parser.add_argument("--seconds", type=float, default=10.0, help="equal-time budget per render")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--best", default="progressivePhotonMap", help="gi's technique set against Mitsuba's path tracer")
+    parser.add_argument("--peak-memory", choices=["gi", "mitsuba"], help=argparse.SUPPRESS)  # the probe's process
     args = parser.parse_args(argv)
+    if args.peak_memory:
+        probe_peak_memory(args.peak_memory, args.scenes, args.width, args.threads)
+        return 0
     import mitsuba
     print(f"gi against Mitsuba {mitsuba.__version__} ({mitsuba_scene.VARIANT}), {args.threads} threads, one run")
     for name in args.scenes.split(","):
