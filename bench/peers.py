@@ -24,6 +24,7 @@ shared: figures are from one run, alternating the renderers so that load changes
 """
 import argparse
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -178,22 +179,33 @@ def equal_time(renderer, integrator, seconds, per_sample, reference, resolution)
             "mean_ratio": mean_luminance(image) / mean_luminance(reference)}
 
 
-def peak_memory_mb(renderer, name, width, threads):
-    """Peak resident memory (MB) of a fresh process that loads the scene and renders 16 spp with one
-    renderer: Python, USD and each renderer's libraries included, as a user's process would have."""
+def renderer_memory_mb(renderer, name, width, threads):
+    """Resident memory (MB) one renderer adds to a fresh process: loading the scene (gi: its Scene
+    with the BVH; Mitsuba: the converted scene, its kernels and libraries) and rendering 16 spp,
+    over the process after it has imported gi and read the stage's settings. gi's loader runs in
+    both (Mitsuba's scene is built from its arrays), so its own peak is left out of both."""
     import subprocess
-    out = subprocess.run([sys.executable, __file__, "--peak-memory", renderer, "--scenes", name,
+    out = subprocess.run([sys.executable, __file__, "--memory-probe", renderer, "--scenes", name,
                           "--width", str(width), "--threads", str(threads)],
                          capture_output=True, text=True, check=True).stdout
     return float(out.strip().splitlines()[-1])
 
 
-def probe_peak_memory(renderer, name, width, threads):
-    import resource
+def resident_mb():
+    with open("/proc/self/statm") as statm:
+        return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2 ** 20
+
+
+def probe_memory(renderer, name, width, threads):
+    import gc
     path = SCENES[name]
     resolution = resolution_of(path, width)
-    (Gi if renderer == "gi" else Mitsuba)(path, resolution, threads).render(16, 1)
-    print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)   # Linux: kB
+    gc.collect()
+    before = resident_mb()
+    held = (Gi if renderer == "gi" else Mitsuba)(path, resolution, threads)
+    held.render(16, 1)
+    gc.collect()
+    print(resident_mb() - before)
 
 
 def run_scene(name, path, args):
@@ -215,7 +227,7 @@ def run_scene(name, path, args):
                                                    (mi_renderer, "path", per_sample["mitsuba"]),
                                                    (gi_renderer, args.best, best_per_sample)):
         rows.append(equal_time(runner, integrator, args.seconds, seconds_per_sample, reference, resolution))
-    memory = {who: peak_memory_mb(who, name, args.width, args.threads) for who in ("gi", "mitsuba")}
+    memory = {who: renderer_memory_mb(who, name, args.width, args.threads) for who in ("gi", "mitsuba")}
     return {"scene": name, "resolution": resolution, "build": {r.name: r.build_seconds for r in renderers},
             "memory": memory,
             "approximated": mi_renderer.approximated, "agreements": agreements, "rows": rows}
@@ -226,7 +238,7 @@ def report(result):
     print(f"\n### {result['scene']} ({w}x{h})")
     print(f"scene load + build: gi {result['build']['gi']:.1f} s, Mitsuba {result['build']['mitsuba']:.1f} s; "
           f"triangles Mitsuba shades flat or with turned normals (unlike gi): {result['approximated']}")
-    print(f"peak memory of a process loading and rendering 16 spp: gi {result['memory']['gi']:.0f} MB, "
+    print(f"resident memory a renderer adds (scene loaded, 16 spp rendered): gi {result['memory']['gi']:.0f} MB, "
           f"Mitsuba {result['memory']['mitsuba']:.0f} MB")
     for a in result["agreements"]:
         print(f"agreement, {a['who']} / Mitsuba ({a['spp'][0]} / {a['spp'][1]} spp x 2 seeds): mean luminance ratio "
@@ -258,10 +270,16 @@ def main(argv=None):
     parser.add_argument("--seconds", type=float, default=10.0, help="equal-time budget per render")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--best", default="progressivePhotonMap", help="gi's technique set against Mitsuba's path tracer")
-    parser.add_argument("--peak-memory", choices=["gi", "mitsuba"], help=argparse.SUPPRESS)  # the probe's process
+    parser.add_argument("--memory-probe", choices=["gi", "mitsuba"], help=argparse.SUPPRESS)  # the probe's process
+    parser.add_argument("--memory-only", action="store_true", help="only the memory figures")
     args = parser.parse_args(argv)
-    if args.peak_memory:
-        probe_peak_memory(args.peak_memory, args.scenes, args.width, args.threads)
+    if args.memory_probe:
+        probe_memory(args.memory_probe, args.scenes, args.width, args.threads)
+        return 0
+    if args.memory_only:
+        for name in args.scenes.split(","):
+            print(name, {who: round(renderer_memory_mb(who, name, args.width, args.threads))
+                         for who in ("gi", "mitsuba")}, "MB")
         return 0
     import mitsuba
     print(f"gi against Mitsuba {mitsuba.__version__} ({mitsuba_scene.VARIANT}), {args.threads} threads, one run")
