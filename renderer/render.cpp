@@ -62,7 +62,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
     }
     info_ = info;
     settings_.params = withPreset(settings.preset, settings.integrator, settings.params);
-    integrator_ = info->create(settings_.params);
+    if (settings.integrator != kAutoIntegrator) integrator_ = info->create(settings_.params);
     CameraDesc desc = camera ? *camera : scene.hasCamera() ? scene.cameraDesc() : defaultCamera(scene);
     if (!desc.transform.isFinite() || desc.transform.det3() == 0) {
         scene.warn("camera " + desc.name + ": NaN, Inf or singular transform; using a camera that frames the scene");
@@ -74,12 +74,35 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
             scene.warn("camera " + desc.name + ": NaN or Inf in its lens or clipping settings; defaults used there");
             break;
         }
+    cameraDesc_ = desc;
     camera_ = Camera(desc, settings.width, settings.height);
+}
+
+bool Renderer::chooseAutomatically(const std::atomic<bool>* cancel, double deadline) {
+    const IntegratorInfo& automatic = *info_;
+    double share = paramValue(automatic, settings_.params, "autoPilotShare");
+    double budget = deadline > 0 ? std::max(0.0, deadline - steadySeconds())
+                                 : paramValue(automatic, settings_.params, "autoHorizon");
+    autoChoice_ = chooseIntegrator(scene_, settings_, cameraDesc_, (1 - share) * budget, share * budget, cancel);
+    if (autoChoice_.cancelled) return false;
+    // The chosen technique takes the render's preset and the parameters every integrator takes.
+    ParamSet shared;
+    for (const auto& [name, value] : settings_.params.values())
+        if (name == "sampleClamp") shared.set(name, value);
+    info_ = findIntegrator(autoChoice_.integrator);
+    settings_.integrator = autoChoice_.integrator;
+    settings_.params = withPreset(settings_.preset, settings_.integrator, shared);
+    integrator_ = info_->create(settings_.params);
+    return true;
 }
 
 bool Renderer::preprocess(const std::atomic<bool>* cancel, double deadline) {
     if (preprocessed_) return true;
     auto start = Clock::now();
+    if (!integrator_ && !chooseAutomatically(cancel, deadline)) {
+        stats_.preprocessSeconds += secondsSince(start);
+        return false;
+    }
     std::atomic<int> scaledDown{0};
     PreprocessContext context{scene_, camera_, settings_.width, settings_.height, settings_.seed, cancel};
     if (deadline > 0) {

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "auto_select.h"
 #include "film.h"
 #include "integrator.h"
 
@@ -87,6 +88,11 @@ public:
     // that a stop or pause request actually stopped the work.
     double lastTileTime() const { return lastTileTime_.load(std::memory_order_relaxed); }
 
+    // With integrator "auto": the pilots' choice, made in preprocess() (empty integrator before).
+    const AutoChoice& autoChoice() const { return autoChoice_; }
+    // The integrator that renders: the settings', or the one "auto" chose.
+    const std::string& integratorName() const { return settings_.integrator; }
+
     const Film& film() const { return film_; }
     const RenderStats& stats() const { return stats_; }
     int samplesTaken() const { return samplesTaken_; }
@@ -94,10 +100,16 @@ public:
     void reset();  // clears the film, keeps the preprocessed integrator
 
 private:
+    // Integrator "auto": runs the pilots in part of the time before `deadline` (or of the
+    // autoHorizon without one) and creates the integrator they choose. False if cancelled.
+    bool chooseAutomatically(const std::atomic<bool>* cancel, double deadline);
+
     const Scene& scene_;
     RenderSettings settings_;
     Camera camera_;
+    CameraDesc cameraDesc_;
     const IntegratorInfo* info_ = nullptr;
+    AutoChoice autoChoice_;
     std::unique_ptr<Integrator> integrator_;
     Film film_;
     RenderStats stats_;

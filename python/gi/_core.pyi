@@ -139,10 +139,15 @@ class RenderResult:
                                        # partial_pass_samples (the last pass the time limit cut: the pixels
                                        # that have its samples too), preprocess_scaled_down (times
                                        # preprocessing did less than asked to keep the time limit), + the
-                                       # integrator's own statistics
+                                       # integrator's own statistics; auto_pilot_seconds with "auto"
+    integrator: str                    # the integrator that rendered ("auto" resolves to one)
+    auto_summary: str                  # with "auto": the choice and each technique's predicted RMSE; else ""
 
 def presets() -> list[dict]:
     """[{'name', 'description', 'params': {integrator: {parameter: value}}}] (e.g. 'thesis')"""
+
+def auto_candidates() -> list[str]:
+    """The techniques integrator 'auto' chooses among (its pilots render them in this order)."""
 
 def integrators() -> list[dict]:
     """[{'name', 'description', 'params': [{'name', 'type' ('int'|'float'|'bool'), 'default', 'min', 'max', 'description'}]}]"""

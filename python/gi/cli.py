@@ -164,7 +164,8 @@ def render_scene(scene_path, integrator="path", params=None, spp=16, seed=0, thr
 def exr_metadata(args, params, result, loaded, wall_seconds):
     """String attributes that make the EXR reproducible: what rendered it, how, and when."""
     return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": loaded.camera_path,
-            "gi:integrator": args.integrator, "gi:spp": str(result.spp), "gi:seed": str(args.seed),
+            "gi:integrator": result.integrator or args.integrator, "gi:auto": result.auto_summary,
+            "gi:spp": str(result.spp), "gi:seed": str(args.seed),
             "gi:params": json.dumps(params, sort_keys=True), "gi:preset": args.preset or "",
             "gi:seconds": f"{result.stats.get('seconds', wall_seconds):.3f}",
             "gi:wall_seconds": f"{wall_seconds:.3f}",
@@ -173,7 +174,9 @@ def exr_metadata(args, params, result, loaded, wall_seconds):
 
 def summary(args, settings, result, wall_seconds, outputs):
     stats = result.stats
-    return (f"{args.scene}: {settings.width}x{settings.height} {args.integrator} {result.spp} spp in "
+    technique = args.integrator if result.integrator in ("", args.integrator) else \
+        f"{args.integrator} -> {result.integrator}"
+    return (f"{args.scene}: {settings.width}x{settings.height} {technique} {result.spp} spp in "
             f"{wall_seconds:.2f} s, {stats.get('rays_per_second', 0) / 1e6:.2f} Mrays/s, "
             f"{stats.get('samples_per_second', 0) / 1e3:.1f} ksamples/s -> {', '.join(outputs)}")
 
@@ -194,6 +197,8 @@ def cmd_render(args, flags, parser):
     wall_seconds = time.perf_counter() - start
     for message in loaded.scene.warnings():
         warn(message)
+    if result.auto_summary:
+        print(f"gi: {result.auto_summary}", file=sys.stderr)
 
     exr = Path(args.output) if args.output else Path("out") / f"{Path(args.scene).stem}.exr"
     exr.parent.mkdir(parents=True, exist_ok=True)
@@ -238,7 +243,8 @@ def add_render_parser(commands, flags):
     render.add_argument("--seed", type=int, default=0, help="sampler seed (default 0); renders are deterministic")
     render.add_argument("--threads", type=int, default=0, help="worker threads (default 0 = all cores)")
     render.add_argument("--time-limit", type=float, default=0.0, metavar="S",
-                        help="stop after the pass that crosses S seconds (default 0 = none)")
+                        help="end the render, preprocessing included, within S seconds (default 0 = none; "
+                             "with --integrator auto, the budget the technique is chosen for)")
     render.add_argument("--resolution", type=positive_int, nargs=2, metavar=("W", "H"),
                         help="image size (default: the stage's render settings, else 512 512)")
     render.add_argument("--camera", metavar="PRIM", help="camera prim path (default: the render settings' camera)")

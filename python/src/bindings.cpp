@@ -229,6 +229,8 @@ struct RenderResult {
     nb::object color, depth, normal, albedo;
     int spp = 0;
     std::map<std::string, double> stats;
+    std::string integrator;  // the one that rendered: the settings', or the one "auto" chose
+    std::string autoSummary;  // "auto": its choice and every technique's predicted error
 };
 
 RenderSettings toRenderSettings(const PyRenderSettings& py) {
@@ -308,6 +310,11 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
                {"partial_pass_samples", double(s.partialPassSamples)},
                {"preprocess_scaled_down", double(s.preprocessScaledDown)}};
     for (const auto& [k, v] : s.integrator) r.stats[k] = v;
+    r.integrator = renderer.integratorName();
+    if (!renderer.autoChoice().integrator.empty()) {
+        r.autoSummary = renderer.autoChoice().summary();
+        r.stats["auto_pilot_seconds"] = renderer.autoChoice().pilotSeconds;
+    }
     return r;
 }
 
@@ -352,7 +359,9 @@ void bindRendering(nb::module_& m) {
         .def_ro("normal", &RenderResult::normal)
         .def_ro("albedo", &RenderResult::albedo)
         .def_ro("spp", &RenderResult::spp)
-        .def_ro("stats", &RenderResult::stats);
+        .def_ro("stats", &RenderResult::stats)
+        .def_ro("integrator", &RenderResult::integrator)
+        .def_ro("auto_summary", &RenderResult::autoSummary);
 
     m.def("render", &render, "scene"_a, "settings"_a, "progress"_a = nb::none());
 
@@ -369,6 +378,9 @@ void bindRendering(nb::module_& m) {
         }
         return out;
     });
+
+    m.def("auto_candidates", [] { return autoCandidates(); },
+          "the techniques integrator 'auto' chooses among, in the order its pilots render them");
 
     m.def("integrators", [] {
         nb::list out;

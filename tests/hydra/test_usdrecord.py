@@ -59,7 +59,7 @@ def test_usdrecord_matches_gi_render(tmp_path):
 def test_every_integrator_through_render_settings(tmp_path):
     # Small budgets: this checks selection, convergence (usdrecord waits for IsConverged) and finite output.
     from gi import _core
-    cheap = {"photons": 20000, "causticPhotons": 20000, "finalGatherSamples": 4, "paths": 16}
+    cheap = {"photons": 20000, "causticPhotons": 20000, "finalGatherSamples": 4, "paths": 16, "autoHorizon": 2}
     for info in _core.integrators():
         name = info["name"]
         params = [p["name"] for p in info["params"]]

@@ -25,7 +25,7 @@ TAKES = {info["name"]: {p["name"] for p in info["params"]} for info in _core.int
 RESOLUTION = (20, 16)
 SPP = 4
 FAST = {"photons": 3000, "causticPhotons": 3000, "paths": 12, "finalGatherSamples": 4, "pathDepth": 5,
-        "rayDepth": 6, "refinementRounds": 50}
+        "rayDepth": 6, "refinementRounds": 50, "autoHorizon": 1.0}
 
 # Prims that must be named in a warning (repaired or ignored input), per scene.
 EXPECTED_WARNINGS = {
