@@ -82,7 +82,10 @@ void HdGiRenderSession::Run() {
         }
         // Passes sized from the measured rate so the last one ends at the deadline (render.h).
         int count = renderer->passSamplesBefore(deadline, std::min(pass, target - taken));
+        const bool choosing = renderer->autoChoice().integrator.empty() && settings.integrator == gi::kAutoIntegrator;
         gi::PassEnd end = renderer->renderPass(taken, count, deadline, _cancel);
+        if (choosing && !renderer->autoChoice().integrator.empty())  // "auto" chose in that pass's preprocess
+            TF_STATUS("hdGi: %s", renderer->autoChoice().summary().c_str());
         // A pass split into chunks (progressivePhotonMap) keeps the chunks it finished.
         taken = renderer->samplesTaken();
         if (end == gi::PassEnd::Cancelled) continue;  // paused or stopped mid-pass: redone
