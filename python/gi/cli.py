@@ -186,7 +186,7 @@ def cmd_render(args, flags, parser):
     _core = require_core()
     params = flags.chosen(args, parser)
     start = time.perf_counter()
-    loaded = load_stage(args.scene, camera=args.camera)
+    loaded = load_stage(args.scene, camera=args.camera, allow_missing=args.allow_missing)
     for message in loaded.warnings:
         warn(message)
     settings = render_settings(loaded, args.integrator, params, args.spp, args.seed, args.threads,
@@ -248,6 +248,9 @@ def add_render_parser(commands, flags):
     render.add_argument("--resolution", type=positive_int, nargs=2, metavar=("W", "H"),
                         help="image size (default: the stage's render settings, else 512 512)")
     render.add_argument("--camera", metavar="PRIM", help="camera prim path (default: the render settings' camera)")
+    render.add_argument("--allow-missing", action="store_true",
+                        help="render a stage whose sublayers, references or payloads cannot all be found "
+                             "(default: an error naming them)")
     render.add_argument("--filter", default="box", choices=["box", "gaussian"], help="pixel filter (default box)")
     render.add_argument("--png", help="PNG path (default: the EXR's path with .png)")
     render.add_argument("--no-png", action="store_true", help="write only the EXR")
