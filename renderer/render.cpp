@@ -269,6 +269,9 @@ void Renderer::render(const std::atomic<bool>* cancel, double startedAt) {
     stats_.seconds = steadySeconds() - start;
     stats_.peakMemoryBytes = peakResidentMemoryBytes();
     stats_.integrator = integrator_->statistics();
+    if (stats_.nonFiniteSamples > 0)  // the film never shows them: this is their only trace
+        scene_.warn(settings_.integrator + ": " + std::to_string(stats_.nonFiniteSamples) +
+                    " non-finite samples (NaN, Inf or negative) were replaced by zero");
     if (stats_.depthCappedPaths > 0)
         scene_.warn(settings_.integrator + ": " + std::to_string(stats_.depthCappedPaths) +
                     " paths reached the safety depth cap of " + std::to_string(kDepthCap) +
