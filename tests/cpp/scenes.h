@@ -1,6 +1,7 @@
 // Small analytic scenes built in code for the C++ tests.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "renderer/render.h"
@@ -58,6 +59,27 @@ inline void addIcosphere(Scene& s, float radius, int subdivisions, int material)
     }
     for (Vec3& p : v) p = normalize(p) * radius;
     s.addMesh("/Furnace", std::move(v), std::move(f), {}, {}, material, nullptr, true, -1);
+}
+
+// A white-furnace scene: a closed icosphere of uniform albedo and emission, the camera at its
+// centre. Inside, radiance is Le / (1 - albedo) everywhere (per channel).
+inline void buildFurnace(Scene& s, Color albedo, Color Le) {
+    addIcosphere(s, 1.0f, 3, s.addMaterial(lambert(albedo, Le)));
+    CameraDesc cam;
+    cam.clipNear = 1e-3f;
+    s.setCamera(cam);
+}
+
+// Irradiance at the origin (normal n) from a one-sided polygon of radiance L: Lambert's formula
+// E = L/2 * sum_i angle(r_i, r_i+1) * dot(n, normalize(r_i x r_i+1)).
+inline double polygonIrradiance(const std::vector<Vec3>& corners, Vec3 n, double L) {
+    double sum = 0;
+    for (size_t i = 0; i < corners.size(); ++i) {
+        Vec3 a = normalize(corners[i]), b = normalize(corners[(i + 1) % corners.size()]);
+        double angle = std::acos(std::clamp(double(dot(a, b)), -1.0, 1.0));
+        sum += angle * dot(n, normalize(cross(a, b)));
+    }
+    return L / 2 * std::fabs(sum);
 }
 
 inline CameraDesc lookingDown(Vec3 position, bool orthographic, float apertureTenths) {

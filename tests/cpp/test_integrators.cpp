@@ -23,11 +23,7 @@ TEST_P(WhiteFurnace, ReturnsLeOverOneMinusAlbedo) {
     const FurnaceCase& c = GetParam();
     Scene scene;
     const Color Le(0.5f);
-    int m = scene.addMaterial(lambert(Color(c.albedo), Le));
-    addIcosphere(scene, 1.0f, 3, m);
-    CameraDesc cam;
-    cam.clipNear = 1e-3f;
-    scene.setCamera(cam);
+    buildFurnace(scene, Color(c.albedo), Le);
     std::map<std::string, double> params = {{"pathDepth", 1000}, {"rayDepth", 1000}};
     if (c.paths > 0) params["paths"] = c.paths;
     for (const auto& [name, value] : c.params) params[name] = value;
@@ -82,11 +78,7 @@ TEST_P(DefaultFurnace, ReturnsLeOverOneMinusAlbedo) {
     Scene scene;
     const Color Le(0.5f);
     const float albedo = 0.9f;
-    int m = scene.addMaterial(lambert(Color(albedo), Le));
-    addIcosphere(scene, 1.0f, 3, m);
-    CameraDesc cam;
-    cam.clipNear = 1e-3f;
-    scene.setCamera(cam);
+    buildFurnace(scene, Color(albedo), Le);
     const DefaultFurnaceCase& c = GetParam();
     double mean[3] = {0, 0, 0};
     for (int seed = 1; seed <= c.seeds; ++seed) {
@@ -114,11 +106,7 @@ INSTANTIATE_TEST_SUITE_P(AllTechniques, DefaultFurnace,
 TEST(Presets, ThesisPresetTruncatesThePathTracerAtDepthFive) {
     Scene scene;
     const float albedo = 0.9f;
-    int m = scene.addMaterial(lambert(Color(albedo), Color(0.5f)));
-    addIcosphere(scene, 1.0f, 3, m);
-    CameraDesc cam;
-    cam.clipNear = 1e-3f;
-    scene.setCamera(cam);
+    buildFurnace(scene, Color(albedo), Color(0.5f));
     scene.commit();
     RenderSettings settings;
     settings.width = settings.height = 16;
@@ -153,18 +141,6 @@ TEST(DirectLighting, PlaneUnderDistantLight) {
         EXPECT_NEAR(channelMean(image, 1), 0.25 * 3 / kPi, 1e-4) << integrator;
         EXPECT_NEAR(channelMean(image, 2), 0.75 * 3 / kPi, 1e-4) << integrator;
     }
-}
-
-// Irradiance at the origin (normal +y) from a one-sided polygon of radiance L: Lambert's formula
-// E = L/2 * sum_i angle(r_i, r_i+1) * dot(n, normalize(r_i x r_i+1)).
-double polygonIrradiance(const std::vector<Vec3>& corners, Vec3 n, double L) {
-    double sum = 0;
-    for (size_t i = 0; i < corners.size(); ++i) {
-        Vec3 a = normalize(corners[i]), b = normalize(corners[(i + 1) % corners.size()]);
-        double angle = std::acos(std::clamp(double(dot(a, b)), -1.0, 1.0));
-        sum += angle * dot(n, normalize(cross(a, b)));
-    }
-    return L / 2 * std::fabs(sum);
 }
 
 TEST(DirectLighting, RectLightMatchesPolygonFormFactor) {
