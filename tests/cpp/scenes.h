@@ -82,6 +82,31 @@ inline double polygonIrradiance(const std::vector<Vec3>& corners, Vec3 n, double
     return L / 2 * std::fabs(sum);
 }
 
+inline CameraDesc lookingDown(Vec3 position, bool orthographic, float apertureTenths);
+
+// A Lambertian floor (y = 0) under a one-sided 1 x 0.6 rect light of radiance L centred at
+// (0.3, 1, 0.2) and emitting down, seen through a 1 mm orthographic window at the origin.
+// Returns the radiance the floor reflects there, albedo / pi * E (Lambert's polygon formula).
+inline double buildFloorUnderRectLight(Scene& scene, float albedo, float L) {
+    int m = scene.addMaterial(lambert(Color(albedo)));
+    addQuad(scene, "/Floor", {-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, m);
+    LightDesc rect;
+    rect.name = "/Rect";
+    rect.kind = "rect";
+    rect.width = 1.0f;
+    rect.height = 0.6f;
+    rect.intensity = L;
+    // Rotated -90 degrees about X: its local -Z (the emitting side) is world -Y.
+    rect.transform.m[1][1] = 0, rect.transform.m[1][2] = -1;
+    rect.transform.m[2][1] = 1, rect.transform.m[2][2] = 0;
+    rect.transform.m[3][0] = 0.3f, rect.transform.m[3][1] = 1, rect.transform.m[3][2] = 0.2f;
+    scene.addLight(rect);
+    scene.setCamera(lookingDown({0, 0.5f, 0}, true, 0.01f));
+    // Corners in world space: x in 0.3 +- 0.5, z in 0.2 +- 0.3, y = 1.
+    std::vector<Vec3> corners = {{-0.2f, 1, -0.1f}, {0.8f, 1, -0.1f}, {0.8f, 1, 0.5f}, {-0.2f, 1, 0.5f}};
+    return albedo / kPi * polygonIrradiance(corners, Vec3(0, 1, 0), L);
+}
+
 inline CameraDesc lookingDown(Vec3 position, bool orthographic, float apertureTenths) {
     CameraDesc c;
     c.name = "/Camera";

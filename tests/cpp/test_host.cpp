@@ -44,6 +44,16 @@ void commitLitFloor(Scene& scene) {
     scene.commit();
 }
 
+// A grey floor under a small sphere light, committed: its samples differ, so a pixel's
+// second sample changes its mean.
+void commitFloorUnderSphereLight(Scene& scene) {
+    int white = scene.addMaterial(lambert(Color(0.5f)));
+    addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, white);
+    scene.addLight(sphereLight("/Light", {0, 2, 0}, 0.5f, 10));
+    scene.setCamera(lookingDown({0, 5, 0}, true, 40));
+    scene.commit();
+}
+
 RenderSettings smallImage(int size, int spp) {
     RenderSettings settings;
     settings.width = settings.height = size;
@@ -117,12 +127,7 @@ TEST(Host, CancelledPassLeavesTheFilmAsItWas) {
 // the pass's samples, each one exactly as a render with that many samples would have it.
 TEST(Host, DeadlineCutPassKeepsFinishedPixelsUnbiased) {
     Scene scene;
-    int white = scene.addMaterial(lambert(Color(0.5f)));
-    addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, white);
-    // A small sphere light: its samples differ, so a pixel's second sample changes its mean.
-    scene.addLight(sphereLight("/Light", {0, 2, 0}, 0.5f, 10));
-    scene.setCamera(lookingDown({0, 5, 0}, true, 40));
-    scene.commit();
+    commitFloorUnderSphereLight(scene);
     const int size = 128;
     Renderer two(scene, smallImage(size, 2));
     ASSERT_TRUE(two.renderPass(0, 2));
@@ -166,12 +171,7 @@ TEST(Host, DeadlineCutPassKeepsFinishedPixelsUnbiased) {
 // the same seed, pixels and sample indices give the same samples, summed in the same passes.
 TEST(Host, ResumedRenderIsBitIdenticalToAnUninterruptedOne) {
     Scene scene;
-    int white = scene.addMaterial(lambert(Color(0.5f)));
-    addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, white);
-    // A small sphere light: every sample differs, so a lost, repeated or shifted one shows.
-    scene.addLight(sphereLight("/Light", {0, 2, 0}, 0.5f, 10));
-    scene.setCamera(lookingDown({0, 5, 0}, true, 40));
-    scene.commit();
+    commitFloorUnderSphereLight(scene);  // every sample differs: a lost, repeated or shifted one shows
     const int size = 128, maxPassSamples = 8;  // hdGi's passes: 1, 2, 4, 8, 8 ... samples
     RenderSettings settings = smallImage(size, 23);  // 1 + 2 + 4 + 8 + 8: the last pass is cut to 8
     Renderer uninterrupted(scene, settings);

@@ -150,26 +150,8 @@ TEST(DirectLighting, PlaneUnderDistantLight) {
 
 TEST(DirectLighting, RectLightMatchesPolygonFormFactor) {
     Scene scene;
-    const float albedo = 0.8f, L = 5;
-    int m = scene.addMaterial(lambert(Color(albedo)));
-    addQuad(scene, "/Floor", {-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, m);
-    LightDesc rect;
-    rect.name = "/Rect";
-    rect.kind = "rect";
-    rect.width = 1.0f;
-    rect.height = 0.6f;
-    rect.intensity = L;
-    // Emitting downwards from (0.3, 1, 0.2): rotate -90 degrees about X so local -Z -> world -Y.
-    rect.transform.m[1][1] = 0, rect.transform.m[1][2] = -1;
-    rect.transform.m[2][1] = 1, rect.transform.m[2][2] = 0;
-    rect.transform.m[3][0] = 0.3f, rect.transform.m[3][1] = 1, rect.transform.m[3][2] = 0.2f;
-    scene.addLight(rect);
-    scene.setCamera(lookingDown({0, 0.5f, 0}, true, 0.01f));  // a 1 mm window around the origin
+    double expected = buildFloorUnderRectLight(scene, 0.8f, 5);
     auto image = renderImage(scene, "direct", 4, 1024, {{"lightSamples", 16}});
-    // Corners in world space: x in 0.3 +- 0.5, z in 0.2 +- 0.3, y = 1.
-    std::vector<Vec3> corners = {{-0.2f, 1, -0.1f}, {0.8f, 1, -0.1f}, {0.8f, 1, 0.5f}, {-0.2f, 1, 0.5f}};
-    double E = polygonIrradiance(corners, Vec3(0, 1, 0), L);
-    double expected = albedo / kPi * E;
     EXPECT_NEAR(channelMean(image, 1), expected, 0.005 * expected);
 }
 

@@ -99,22 +99,7 @@ TEST(UnbiasedAtDefaults, PlaneUnderRectLight) {
     // The rect light of test_integrators' DirectLighting test, now through the path tracer: its
     // BSDF rays hit the light too (MIS), and light reflected up meets only the light's back.
     Scene scene;
-    const float albedo = 0.8f, L = 5;
-    int m = scene.addMaterial(lambert(Color(albedo)));
-    addQuad(scene, "/Floor", {-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, m);
-    LightDesc rect;
-    rect.name = "/Rect";
-    rect.kind = "rect";
-    rect.width = 1.0f;
-    rect.height = 0.6f;
-    rect.intensity = L;
-    rect.transform.m[1][1] = 0, rect.transform.m[1][2] = -1;  // local -Z (its emitting side) -> world -Y
-    rect.transform.m[2][1] = 1, rect.transform.m[2][2] = 0;
-    rect.transform.m[3][0] = 0.3f, rect.transform.m[3][1] = 1, rect.transform.m[3][2] = 0.2f;
-    scene.addLight(rect);
-    scene.setCamera(lookingDown({0, 0.5f, 0}, true, 0.01f));  // a 1 mm window around the origin
-    std::vector<Vec3> corners = {{-0.2f, 1, -0.1f}, {0.8f, 1, -0.1f}, {0.8f, 1, 0.5f}, {-0.2f, 1, 0.5f}};
-    double radiance = albedo / kPi * polygonIrradiance(corners, Vec3(0, 1, 0), L);
+    double radiance = buildFloorUnderRectLight(scene, 0.8f, 5);
     double exact[3] = {radiance, radiance, radiance};
     expectMatches(overSeeds(scene, "path", 8, 64), exact, "rect light", 0.005);
 }
