@@ -32,6 +32,9 @@ struct HdGiSessionStats {
     int textures = 0, texturesRead = 0;  // bound by the last scene build; of them read from disk
     int samples = 0, targetSamples = 0;
     uint64_t rays = 0;
+    // Samples the renderer replaced because they were NaN, Inf or negative (a renderer bug;
+    // the film never shows them, so this count is the only trace).
+    uint64_t nonFiniteSamples = 0;
     bool converged = false;
 };
 

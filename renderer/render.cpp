@@ -125,6 +125,7 @@ bool Renderer::preprocess(const std::atomic<bool>* cancel, double deadline) {
 void Renderer::reset() {
     film_.clear();
     samplesTaken_ = 0;
+    nextPassSamples_ = 1;
     progress_ = 0;
 }
 
@@ -269,20 +270,25 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
     return PassEnd::Deadline;
 }
 
+PassEnd Renderer::renderNextPass(int maxPassSamples, double deadline, const std::atomic<bool>* cancel) {
+    if (finished()) return PassEnd::Complete;
+    int count = passSamplesBefore(deadline, std::min(nextPassSamples_, std::max(1, settings_.spp) - samplesTaken_));
+    // A pass split into chunks (maxSamplesPerPass) keeps the chunks it finished: samplesTaken_
+    // moves past them, and the chunks after start where they would have.
+    PassEnd end = renderPass(samplesTaken_, count, deadline, cancel);
+    if (end == PassEnd::Complete) nextPassSamples_ = std::min(nextPassSamples_ * 2, std::max(1, maxPassSamples));
+    return end;
+}
+
 void Renderer::render(const std::atomic<bool>* cancel, double startedAt) {
     double start = startedAt > 0 ? startedAt : steadySeconds();
     double deadline = settings_.timeLimit > 0 ? start + settings_.timeLimit : 0;
     preprocess(cancel, deadline);
-    int target = std::max(1, settings_.spp);
-    // Passes grow geometrically so that the per-pass overhead is amortised; with a time limit
-    // each is also cut to what the measured rate fits before the deadline, which cuts the last.
-    int pass = 1;
-    while (samplesTaken_ < target) {
+    constexpr int kMaxPassSamples = 64;
+    while (!finished()) {
         if (cancel && cancel->load()) break;
-        int count = passSamplesBefore(deadline, std::min(pass, target - samplesTaken_));
-        if (renderPass(samplesTaken_, count, deadline, cancel) != PassEnd::Complete) break;
+        if (renderNextPass(kMaxPassSamples, deadline, cancel) != PassEnd::Complete) break;
         if (past(deadline)) break;
-        pass = std::min(pass * 2, 64);
     }
     if (deadline > 0 && samplesTaken_ == 0 && stats_.partialPassPixels < uint64_t(settings_.width) * settings_.height &&
         !(cancel && cancel->load()))
@@ -292,6 +298,9 @@ void Renderer::render(const std::atomic<bool>* cancel, double startedAt) {
     stats_.seconds = steadySeconds() - start;
     stats_.peakMemoryBytes = peakResidentMemoryBytes();
     stats_.integrator = integrator_->statistics();
+    if (stats_.nonFiniteSamples > 0)  // the film never shows them: this is their only trace
+        scene_.warn(settings_.integrator + ": " + std::to_string(stats_.nonFiniteSamples) +
+                    " non-finite samples (NaN, Inf or negative) were replaced by zero");
     if (stats_.depthCappedPaths > 0)
         scene_.warn(settings_.integrator + ": " + std::to_string(stats_.depthCappedPaths) +
                     " paths reached the safety depth cap of " + std::to_string(kDepthCap) +

@@ -76,8 +76,17 @@ public:
     // before `deadline`, from the rate measured in the passes so far (`wanted` before any; at
     // least 1): passes shrink to one sample per pixel near the deadline, which cuts one of those.
     int passSamplesBefore(double deadline, int wanted) const;
-    // Preprocess plus passes up to settings.spp, or until settings.timeLimit (measured from this
-    // call) with passes sized by passSamplesBefore and the last cut at the deadline.
+    // The next pass of a progressive render towards settings.spp: passes start at one sample
+    // per pixel and double up to `maxPassSamples` (amortising each pass's overhead while the
+    // image still refreshes); with a deadline each is cut to what passSamplesBefore fits. A
+    // cancelled pass is discarded and the next call renders the same samples again, so a
+    // render paused (cancelled) and resumed is bit-identical to an uninterrupted one. Returns
+    // Complete without rendering once settings.spp are taken.
+    PassEnd renderNextPass(int maxPassSamples, double deadline = 0, const std::atomic<bool>* cancel = nullptr);
+    bool finished() const { return samplesTaken_ >= std::max(1, settings_.spp); }
+    // Preprocess plus passes up to settings.spp (renderNextPass up to 64 samples), or until
+    // settings.timeLimit (measured from this call) with the last pass cut at the deadline. After
+    // a cancel, calling it again resumes the render where it stopped.
     // `startedAt` (steadySeconds(); 0 = now): when the budget began, for a host whose own work
     // before this call (committing the scene, building it) counts against the time limit;
     // stats().seconds is measured from it too.
@@ -114,6 +123,7 @@ private:
     Film film_;
     RenderStats stats_;
     int samplesTaken_ = 0;
+    int nextPassSamples_ = 1;  // renderNextPass's schedule
     bool preprocessed_ = false;
     std::atomic<double> progress_{0};
     std::atomic<double> lastTileTime_{0};

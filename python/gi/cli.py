@@ -169,6 +169,8 @@ def exr_metadata(args, params, result, loaded, wall_seconds):
             "gi:params": json.dumps(params, sort_keys=True), "gi:preset": args.preset or "",
             "gi:seconds": f"{result.stats.get('seconds', wall_seconds):.3f}",
             "gi:wall_seconds": f"{wall_seconds:.3f}",
+            # Samples the renderer replaced (NaN, Inf, negative): the pixels never show them.
+            "gi:non_finite_samples": str(int(result.stats["non_finite_samples"])),
             "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
 
 

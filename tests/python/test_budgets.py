@@ -52,6 +52,7 @@ def test_budget_is_kept(loaded, integrator, budget):
     # At least one complete pass, and a finite image: the budget bought an image.
     assert result.spp >= 1
     assert np.isfinite(np.asarray(result.color)).all()
+    assert result.stats["non_finite_samples"] == 0  # the film zeroes bad samples: the count shows them
 
 
 def test_preprocessing_that_would_overrun_scales_down_and_says_so(loaded):

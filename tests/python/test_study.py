@@ -154,6 +154,7 @@ def test_reference_writes_spp_time_and_error_estimate(cornell, tmp_path):
     proc = run_gi("reference", cornell, "-o", out, "--resolution", 16, 16, "--max-seconds", 0.3)
     pixels, meta = read_meta(out)
     assert pixels.shape == (16, 16, 3) and np.isfinite(pixels).all() and pixels.mean() > 0.01
+    assert meta["gi:non_finite_samples"] == "0"  # the film zeroes bad samples: finite pixels alone prove nothing
     assert meta["gi:integrator"] == "path" and int(meta["gi:spp"]) > 0 and int(meta["gi:batches"]) >= 2
     error, seconds = float(meta["gi:relative_standard_error"]), float(meta["gi:seconds"])
     assert 0 < error < 1 and math.isfinite(float(meta["gi:pixel_relative_standard_error"]))
