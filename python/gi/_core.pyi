@@ -158,8 +158,12 @@ def render(scene: Scene, settings: RenderSettings,
     50 ms and once with 1.0 at the end. Releases the GIL while rendering. KeyboardInterrupt cancels.
     Raises ValueError for an unknown integrator or resolution."""
 
-def write_exr(path: str, result: RenderResult, metadata: dict[str, str] = {}) -> None:
-    """Linear half/float EXR with R,G,B plus depth (Z; the largest finite float where nothing was hit, so the file holds no Inf), normal (N.x..), albedo (albedo.r..) layers; metadata as string attributes."""
+def write_exr(path: str, result: RenderResult, metadata: dict[str, str] = {},
+              color: Optional[npt.NDArray[np.float32]] = None,
+              layers: dict[str, npt.NDArray[np.float32]] = {}) -> None:
+    """Linear half/float EXR with R,G,B plus depth (Z; the largest finite float where nothing was hit, so the file holds no Inf), normal (N.x..), albedo (albedo.r..) layers; metadata as string attributes.
+    `color` (H, W, 3) replaces the render's colour as R,G,B (e.g. the denoised one); each of `layers`
+    (name -> (H, W, 3)) is written as name.R, name.G, name.B (e.g. noisy.R for the raw colour)."""
 
 def write_rgb_exr(path: str, color: npt.NDArray[np.float32], metadata: dict[str, str] = {}) -> None:
     """A plain linear R,G,B EXR from an (H, W, 3) array."""
@@ -180,6 +184,23 @@ def embree_ray_benchmark(scene: Scene, rays: int, seed: int = 0, threads: int = 
     """Embree alone: `rays` incoherent closest-hit rays in the committed scene -> {rays, hits, seconds, rays_per_second}."""
 
 def peak_memory_bytes() -> int: ...
+
+class DenoiserUnavailable(RuntimeError):
+    """No Open Image Denoise 2.x could be loaded; the message lists where it looked and what to install."""
+
+class Denoiser:
+    """Intel Open Image Denoise 2.x's "RT" filter on its CPU device, loaded at run time (renderer/denoiser.h).
+    Not thread-safe: it keeps its filters between calls of one image size."""
+    version: str        # of the loaded OIDN, e.g. "2.5.1"
+    library_path: str   # the libOpenImageDenoise file loaded
+    def __init__(self, library_folders: Sequence[str] = (), threads: int = 0) -> None:
+        """Looks in $GI_OIDN_LIBRARY (alone, when set), else `library_folders`, the copy found when the
+        renderer was built, the system loader's path. Raises DenoiserUnavailable."""
+    def denoise(self, color: npt.NDArray[np.float32], albedo: npt.NDArray[np.float32],
+                normal: npt.NDArray[np.float32], prefilter_aux: bool = True) -> npt.NDArray[np.float32]:
+        """The denoised (H, W, 3) linear colour, guided by the albedo and normal AOVs (H, W, 3);
+        prefilter_aux denoises those first and treats them as clean (OIDN's final-frame set-up).
+        Releases the GIL. Raises RuntimeError if OIDN fails or returns a non-finite value."""
 
 def read_obj(path: str) -> dict:
     """A Wavefront OBJ (and its MTL) through tinyobjloader: {meshes: one per (group, material) in file

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <thread>
 
+#include "arrays.h"
 #include "renderer/color.h"
 #include "renderer/image_io.h"
 #include "renderer/ray_benchmark.h"
@@ -22,6 +23,7 @@
 namespace nb = nanobind;
 using namespace nb::literals;
 using namespace gi;
+using namespace gi::bindings;
 
 namespace {
 
@@ -45,13 +47,6 @@ nb::ndarray<nb::numpy, double, nb::shape<4, 4>> fromMat4(const Mat4& m) {
         for (int j = 0; j < 4; ++j) data[i * 4 + j] = m.m[i][j];
     nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<double*>(p); });
     return nb::ndarray<nb::numpy, double, nb::shape<4, 4>>(data, {4, 4}, owner);
-}
-
-template <size_t N>
-nb::ndarray<nb::numpy, float> toNumpy(std::vector<float> v, std::initializer_list<size_t> shape) {
-    auto* heap = new std::vector<float>(std::move(v));
-    nb::capsule owner(heap, [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });
-    return nb::ndarray<nb::numpy, float>(heap->data(), N, shape.begin(), owner);
 }
 
 #define RW_COLOR(cls, pyname, field) \
@@ -318,19 +313,6 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
     return r;
 }
 
-template <typename T>
-std::vector<float> toVector(const nb::ndarray<const float, nb::c_contig, nb::device::cpu>& a, size_t& w, size_t& h) {
-    if (a.ndim() != 3 || a.shape(2) < 3) throw std::invalid_argument("expected an (H, W, 3) float32 array");
-    h = a.shape(0), w = a.shape(1);
-    size_t c = a.shape(2);
-    std::vector<float> out(w * h * 3);
-    for (size_t p = 0; p < w * h; ++p)
-        for (size_t k = 0; k < 3; ++k) out[p * 3 + k] = a.data()[p * c + k];
-    return out;
-}
-
-using ImageArray = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
-
 // The OCIO config: the explicit one, else $OCIO, else the one installed beside this module.
 std::string ocioConfig(const std::string& explicitPath) {
     if (!explicitPath.empty()) return explicitPath;
@@ -411,7 +393,8 @@ void bindRendering(nb::module_& m) {
 
     m.def(
         "write_exr",
-        [](const std::string& path, const RenderResult& r, std::map<std::string, std::string> metadata) {
+        [](const std::string& path, const RenderResult& r, std::map<std::string, std::string> metadata,
+           std::optional<ImageArray> colorOverride, std::map<std::string, ImageArray> extraLayers) {
             auto color = nb::cast<ImageArray>(r.color);
             auto depth = nb::cast<ImageArray>(r.depth);
             auto normal = nb::cast<ImageArray>(r.normal);
@@ -425,16 +408,31 @@ void bindRendering(nb::module_& m) {
                                            {"", {"Z"}, z.data()},
                                            {"N", {"X", "Y", "Z"}, normal.data()},
                                            {"albedo", {"R", "G", "B"}, albedo.data()}};
+            std::vector<std::vector<float>> extraPixels;  // owns the extra layers' RGB while writing
+            extraPixels.reserve(extraLayers.size() + 1);
+            auto rgbOf = [&](const ImageArray& image, const std::string& what) {
+                size_t iw, ih;
+                extraPixels.push_back(toVector(image, iw, ih));
+                if (int(iw) != w || int(ih) != h)
+                    throw std::invalid_argument(what + " is " + std::to_string(iw) + "x" + std::to_string(ih) +
+                                                ", the render " + std::to_string(w) + "x" + std::to_string(h));
+                return extraPixels.back().data();
+            };
+            if (colorOverride) layers[0].pixels = rgbOf(*colorOverride, "color");
+            for (const auto& [name, image] : extraLayers) layers.push_back({name, {"R", "G", "B"}, rgbOf(image, name)});
             nb::gil_scoped_release release;
             writeExr(path, w, h, layers, metadata);
         },
-        "path"_a, "result"_a, "metadata"_a = std::map<std::string, std::string>());
+        "path"_a, "result"_a, "metadata"_a = std::map<std::string, std::string>(), "color"_a = nb::none(),
+        "layers"_a = std::map<std::string, ImageArray>(),
+        "The render's colour (or `color` instead), depth, normal and albedo, plus each of `layers` "
+        "(name -> (H, W, 3) array) as name.R/G/B.");
 
     m.def(
         "write_rgb_exr",
         [](const std::string& path, ImageArray color, std::map<std::string, std::string> metadata) {
             size_t w, h;
-            std::vector<float> rgb = toVector<float>(color, w, h);
+            std::vector<float> rgb = toVector(color, w, h);
             writeExr(path, int(w), int(h), {{"", {"R", "G", "B"}, rgb.data()}}, metadata);
         },
         "path"_a, "color"_a, "metadata"_a = std::map<std::string, std::string>());
@@ -444,7 +442,7 @@ void bindRendering(nb::module_& m) {
         [](ImageArray color, const std::string& display, const std::string& view, float exposure,
            const std::string& config) {
             size_t w, h;
-            std::vector<float> rgb = toVector<float>(color, w, h);
+            std::vector<float> rgb = toVector(color, w, h);
             std::string path = ocioConfig(config);
             return toNumpy<3>(applyDisplayTransform(rgb, int(w), int(h), path, display, view, exposure), {h, w, 3});
         },
@@ -455,7 +453,7 @@ void bindRendering(nb::module_& m) {
         [](const std::string& path, ImageArray color, const std::string& display, const std::string& view,
            float exposure, const std::string& config) {
             size_t w, h;
-            std::vector<float> rgb = toVector<float>(color, w, h);
+            std::vector<float> rgb = toVector(color, w, h);
             std::string cfg = ocioConfig(config);
             writePng8(path, int(w), int(h), applyDisplayTransform(rgb, int(w), int(h), cfg, display, view, exposure));
         },
@@ -510,7 +508,8 @@ void bindRendering(nb::module_& m) {
 
 }  // namespace
 
-void bindImport(nb::module_& m);  // import_bindings.cpp: read_obj, read_gltf
+void bindImport(nb::module_& m);    // import_bindings.cpp: read_obj, read_gltf
+void bindDenoiser(nb::module_& m);  // denoise_bindings.cpp: Denoiser, DenoiserUnavailable
 
 NB_MODULE(_core, m) {
     m.doc() = "hdGi's CPU global-illumination renderer";
@@ -518,4 +517,5 @@ NB_MODULE(_core, m) {
     bindScene(m);
     bindRendering(m);
     bindImport(m);
+    bindDenoiser(m);
 }
