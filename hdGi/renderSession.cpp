@@ -129,6 +129,22 @@ float ClipDepth(GfMatrix4d const& p, float viewDepth) {
 
 }  // namespace
 
+std::vector<float> HdGiRenderSession::_Color(gi::Film const& film, HdGiRenderJob const& job, bool converged) {
+    if (!job.denoise || _denoiserMissing) return film.color();
+    try {
+        if (!_denoiser) _denoiser = std::make_unique<gi::Denoiser>(std::vector<std::string>{}, job.settings.threads);
+        // The final pass gets OIDN's final-frame set-up (albedo and normal prefiltered); the
+        // passes before it the one-filter preview set-up, to keep the viewport responsive.
+        return _denoiser->denoise(film, converged);
+    } catch (gi::DenoiserUnavailable const& e) {
+        _denoiserMissing = true;
+        TF_WARN("hdGi: gi:denoise is on, but %s; showing the raw colour", e.what());
+    } catch (std::exception const& e) {
+        TF_WARN("hdGi: denoising failed (%s); showing the raw colour", e.what());
+    }
+    return film.color();
+}
+
 void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged) {
     gi::Film const& film = renderer.film();
     GfRect2i const& window = job.dataWindow;
@@ -137,7 +153,7 @@ void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob c
         if (!buffer) continue;
         TfToken const& name = aov.aovName;
         if (name == HdAovTokens->color) {
-            buffer->WriteFloats(film.color().data(), 3, window, 1.0f);
+            buffer->WriteFloats(_Color(film, job, converged).data(), 3, window, 1.0f);
         } else if (name == HdAovTokens->depth || name == HdAovTokens->cameraDepth) {
             std::vector<float> depth = film.depth();
             for (float& d : depth) {
