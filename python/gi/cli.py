@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 from . import __version__
-from .errors import SceneError
+from .errors import DenoiserMissing, SceneError
 
 PARAM_TYPES = {"int": int, "float": float}
 
@@ -187,6 +187,10 @@ def cmd_render(args, flags, parser):
     from .loader import load_stage
     _core = require_core()
     params = flags.chosen(args, parser)
+    denoiser = None
+    if args.denoise:  # before rendering: a missing denoiser must not cost a render first
+        from .denoise import open_denoiser
+        denoiser = open_denoiser(args.threads)
     start = time.perf_counter()
     loaded = load_stage(args.scene, camera=args.camera, allow_missing=args.allow_missing)
     for message in loaded.warnings:
@@ -204,14 +208,23 @@ def cmd_render(args, flags, parser):
 
     exr = Path(args.output) if args.output else Path("out") / f"{Path(args.scene).stem}.exr"
     exr.parent.mkdir(parents=True, exist_ok=True)
-    _core.write_exr(str(exr), result, exr_metadata(args, params, result, loaded, wall_seconds))
+    metadata = exr_metadata(args, params, result, loaded, wall_seconds)
+    color, layers, denoised_text = result.color, {}, ""
+    if denoiser is not None:
+        # The denoised colour is the image (R, G, B and the PNG); the raw one stays as noisy.R/G/B.
+        from .denoise import denoise_metadata, denoise_result
+        color, denoise_seconds = denoise_result(denoiser, result)
+        layers = {"noisy": result.color}
+        metadata.update(denoise_metadata(denoiser, denoise_seconds))
+        denoised_text = f", denoised in {denoise_seconds:.2f} s (OIDN {denoiser.version})"
+    _core.write_exr(str(exr), result, metadata, color=color, layers=layers)
     outputs = [str(exr)]
     if not args.no_png:
         png = Path(args.png) if args.png else exr.with_suffix(".png")
         png.parent.mkdir(parents=True, exist_ok=True)
-        _core.write_png(str(png), result.color, args.display, args.view, args.exposure)
+        _core.write_png(str(png), color, args.display, args.view, args.exposure)
         outputs.append(str(png))
-    print(summary(args, settings, result, wall_seconds, outputs))
+    print(summary(args, settings, result, wall_seconds, outputs) + denoised_text)
     return 0
 
 
@@ -260,6 +273,10 @@ def add_render_parser(commands, flags):
     render.add_argument("--view", default="", help="OCIO view for the PNG (default: the config's)")
     render.add_argument("--exposure", type=float, default=0.0,
                         help="stops applied before the PNG's view transform")
+    render.add_argument("--denoise", action="store_true",
+                        help="denoise the colour with Intel Open Image Denoise 2.x, guided by the albedo and "
+                             "normal AOVs (needs `pip install pyoidn`, or $GI_OIDN_LIBRARY); the EXR keeps "
+                             "the raw colour as noisy.R/G/B, the PNG shows the denoised one")
     flags.add_to(render)
     return render
 
@@ -316,6 +333,9 @@ def add_study_parser(commands, flags):
     runs.add_argument("--budgets", type=seconds_list, help="comma-separated seconds per run (default 1,2,4)")
     runs.add_argument("--params-file", help="JSON table of runs at fixed parameters (see gi.study)")
     study.add_argument("-o", "--output", default="study", metavar="DIR", help="output folder (default ./study)")
+    study.add_argument("--denoise", metavar="LIST",
+                       help="comma-separated integrators whose runs also get a '+ denoise' row (Open Image "
+                            "Denoise), or 'none' (default: path, skipped with a warning without pyoidn)")
     add_common_render_options(study, "the reference's")
 
 
@@ -366,7 +386,7 @@ def main(argv=None):
             from .importer import cmd_import
             return cmd_import(args)
         return cmd_inspect(args)
-    except (SceneError, CoreMissing, ValueError) as error:  # ValueError: the renderer rejects a setting
+    except (SceneError, CoreMissing, DenoiserMissing, ValueError) as error:  # ValueError: the renderer rejects a setting
         print(f"gi: error: {error}", file=sys.stderr)
         return 2
     except (RuntimeError, OSError) as error:  # e.g. an output file that cannot be written
