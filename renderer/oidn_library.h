@@ -22,7 +22,7 @@ using Filter = struct FilterImpl*;
 enum DeviceType : int { kDeviceCpu = 1 };
 enum Format : int { kFormatFloat3 = 3 };
 enum Error : int { kErrorNone = 0 };
-enum Quality : int { kQualityHigh = 6 };
+enum Quality : int { kQualityBalanced = 5, kQualityHigh = 6 };
 }  // namespace oidn
 
 class OidnLibrary {

@@ -335,7 +335,8 @@ def add_study_parser(commands, flags):
     study.add_argument("-o", "--output", default="study", metavar="DIR", help="output folder (default ./study)")
     study.add_argument("--denoise", metavar="LIST",
                        help="comma-separated integrators whose runs also get a '+ denoise' row (Open Image "
-                            "Denoise), or 'none' (default: path, skipped with a warning without pyoidn)")
+                            "Denoise), or 'none' (default: path and photonMapFinalGather when the study has them; "
+                            "skipped with a warning without pyoidn)")
     add_common_render_options(study, "the reference's")
 
 

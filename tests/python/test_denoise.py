@@ -46,8 +46,8 @@ def denoised_render(tmp_path_factory):
 
 def test_denoising_the_16_spp_cornell_box_lowers_its_error(denoised_render, reference):
     """Bounds measured over seeds 3-10 of the 16-spp render against this reference (README, "Denoising"):
-    denoised/noisy FLIP 0.66-0.74 (mean 0.700, sd 0.030), RMSE sRGB8 0.43-0.51 (mean 0.459, sd 0.022),
-    luminance ratio 0.984-0.994 (mean 0.988, sd 0.003); each bound is the mean + 4 sd. The issue asked
+    denoised/noisy FLIP 0.66-0.74 (mean 0.699, sd 0.031), RMSE sRGB8 0.43-0.51 (mean 0.459, sd 0.023),
+    luminance ratio 0.983-0.993 (mean 0.987, sd 0.0033); each bound is the mean -/+ 4 sd. The issue asked
     for half the FLIP: OIDN does not get there on this scene (0.62-0.72 even against a 4096-spp
     reference), since FLIP at 67 ppd already discounts pixel-scale noise and the caustic under the glass
     sphere is fireflies at 16 spp that no denoiser can place."""
@@ -58,9 +58,9 @@ def test_denoising_the_16_spp_cornell_box_lowers_its_error(denoised_render, refe
     noisy_rmse, denoised_rmse = metrics.rmse_srgb8(noisy, reference), metrics.rmse_srgb8(denoised, reference)
     print(f"against {REFERENCE_SPP} spp: FLIP noisy {noisy_flip:.4f}, denoised {denoised_flip:.4f}; "
           f"RMSE sRGB8 noisy {noisy_rmse:.2f}, denoised {denoised_rmse:.2f}")
-    assert denoised_flip < 0.82 * noisy_flip
+    assert denoised_flip < 0.823 * noisy_flip
     assert denoised_rmse < 0.55 * noisy_rmse
-    assert 0.975 < metrics.luminance_ratio(denoised, reference) < 1.025
+    assert 0.974 < metrics.luminance_ratio(denoised, reference) < 1.001
 
 
 def test_raw_layer_is_the_render_without_denoising(denoised_render):
