@@ -54,6 +54,13 @@ nb::ndarray<nb::numpy, float> toNumpy(std::vector<float> v, std::initializer_lis
     return nb::ndarray<nb::numpy, float>(heap->data(), N, shape.begin(), owner);
 }
 
+nb::ndarray<nb::numpy, int32_t> toNumpyInt(std::vector<int32_t> v, size_t h, size_t w) {
+    auto* heap = new std::vector<int32_t>(std::move(v));
+    nb::capsule owner(heap, [](void* p) noexcept { delete static_cast<std::vector<int32_t>*>(p); });
+    size_t shape[2] = {h, w};
+    return nb::ndarray<nb::numpy, int32_t>(heap->data(), 2, shape, owner);
+}
+
 #define RW_COLOR(cls, pyname, field) \
     def_prop_rw(pyname, [](const cls& o) { return fromColor(o.field); }, [](cls& o, Float3 v) { o.field = toColor(v); })
 
@@ -223,10 +230,14 @@ struct PyRenderSettings {
     int threads = 0;
     double timeLimit = 0;
     std::string filter = "box";
+    std::tuple<int, int, int, int> dataWindow{0, 0, 0, 0};  // (x0, y0, x1, y1); empty: the whole image
 };
 
 struct RenderResult {
     nb::object color, depth, normal, albedo;
+    nb::object primId, instanceId;  // int32, -1 where nothing (no instance) was hit
+    int width = 0, height = 0;
+    PixelWindow window;  // the pixels rendered (the whole image unless a data window was set)
     int spp = 0;
     std::map<std::string, double> stats;
 };
@@ -242,18 +253,20 @@ RenderSettings toRenderSettings(const PyRenderSettings& py) {
     settings.timeLimit = py.timeLimit;
     settings.filter = py.filter;
     settings.preset = py.preset;
+    std::tie(settings.window.x0, settings.window.y0, settings.window.x1, settings.window.y1) = py.dataWindow;
     for (auto [key, value] : py.params) settings.params.set(nb::cast<std::string>(key), nb::cast<double>(value));
     return settings;
 }
 
-RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::callable> progress) {
+RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::callable> progress,
+                    std::optional<CameraDesc> camera) {
     RenderSettings settings = toRenderSettings(py);
     double started = steadySeconds();  // the time limit counts committing the scene too
     {
         nb::gil_scoped_release release;
         scene.commit();
     }
-    Renderer renderer(scene, settings);
+    Renderer renderer(scene, settings, camera ? &*camera : nullptr);
     std::atomic<bool> cancel{false}, finished{false};
     std::exception_ptr error;
     {
@@ -290,6 +303,10 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
     r.depth = nb::cast(toNumpy<2>(film.depth(), {h, w}));
     r.normal = nb::cast(toNumpy<3>(film.normal(), {h, w, 3}));
     r.albedo = nb::cast(toNumpy<3>(film.albedo(), {h, w, 3}));
+    r.primId = nb::cast(toNumpyInt(film.shapeIds(), h, w));
+    r.instanceId = nb::cast(toNumpyInt(film.instanceIds(), h, w));
+    r.width = int(w), r.height = int(h);
+    r.window = settings.window.empty() ? PixelWindow{0, 0, int(w), int(h)} : settings.window;
     r.spp = renderer.samplesTaken();
     const RenderStats& s = renderer.stats();
     r.stats = {{"seconds", s.seconds},
@@ -344,17 +361,25 @@ void bindRendering(nb::module_& m) {
         .def_rw("seed", &PyRenderSettings::seed)
         .def_rw("threads", &PyRenderSettings::threads)
         .def_rw("time_limit", &PyRenderSettings::timeLimit)
-        .def_rw("filter", &PyRenderSettings::filter);
+        .def_rw("filter", &PyRenderSettings::filter)
+        .def_rw("data_window", &PyRenderSettings::dataWindow,
+                "(x0, y0, x1, y1): render only pixels [x0, x1) x [y0, y1); (0, 0, 0, 0): the whole image");
 
     nb::class_<RenderResult>(m, "RenderResult")
         .def_ro("color", &RenderResult::color)
         .def_ro("depth", &RenderResult::depth)
         .def_ro("normal", &RenderResult::normal)
         .def_ro("albedo", &RenderResult::albedo)
+        .def_ro("prim_id", &RenderResult::primId)
+        .def_ro("instance_id", &RenderResult::instanceId)
+        .def_prop_ro("data_window", [](const RenderResult& r) {
+            return std::make_tuple(r.window.x0, r.window.y0, r.window.x1, r.window.y1);
+        })
         .def_ro("spp", &RenderResult::spp)
         .def_ro("stats", &RenderResult::stats);
 
-    m.def("render", &render, "scene"_a, "settings"_a, "progress"_a = nb::none());
+    m.def("render", &render, "scene"_a, "settings"_a, "progress"_a = nb::none(), "camera"_a = nb::none(),
+          "camera: a CameraDesc used instead of the scene's (a committed scene renders again from another view)");
 
     m.def("presets", [] {
         nb::list out;
@@ -404,19 +429,46 @@ void bindRendering(nb::module_& m) {
             auto depth = nb::cast<ImageArray>(r.depth);
             auto normal = nb::cast<ImageArray>(r.normal);
             auto albedo = nb::cast<ImageArray>(r.albedo);
-            int h = int(color.shape(0)), w = int(color.shape(1));
+            // Only the rendered pixels (the result's data window) go into the file, placed in the
+            // whole image as the EXR's data window.
+            const PixelWindow& win = r.window;
+            int w = win.x1 - win.x0, h = win.y1 - win.y0;
+            auto crop = [&](const float* pixels, int channels) {
+                std::vector<float> out(size_t(w) * h * channels);
+                for (int y = 0; y < h; ++y)
+                    std::copy_n(pixels + (size_t(y + win.y0) * r.width + win.x0) * channels, size_t(w) * channels,
+                                out.begin() + size_t(y) * w * channels);
+                return out;
+            };
+            std::vector<float> rgb = crop(color.data(), 3), z = crop(depth.data(), 1), n = crop(normal.data(), 3),
+                               a = crop(albedo.data(), 3);
             // The file holds no Inf: pixels that hit nothing get the largest finite depth.
-            std::vector<float> z(depth.data(), depth.data() + size_t(w) * h);
             for (float& v : z)
                 if (!std::isfinite(v)) v = std::numeric_limits<float>::max();
-            std::vector<ImageLayer> layers{{"", {"R", "G", "B"}, color.data()},
+            std::vector<ImageLayer> layers{{"", {"R", "G", "B"}, rgb.data()},
                                            {"", {"Z"}, z.data()},
-                                           {"N", {"X", "Y", "Z"}, normal.data()},
-                                           {"albedo", {"R", "G", "B"}, albedo.data()}};
+                                           {"N", {"X", "Y", "Z"}, n.data()},
+                                           {"albedo", {"R", "G", "B"}, a.data()}};
+            DataWindow window;
+            if (w != r.width || h != r.height) window = DataWindow{win.x0, win.y0, r.width, r.height};
             nb::gil_scoped_release release;
-            writeExr(path, w, h, layers, metadata);
+            writeExr(path, w, h, layers, metadata, window);
         },
         "path"_a, "result"_a, "metadata"_a = std::map<std::string, std::string>());
+
+    m.def(
+        "write_channels_exr",
+        [](const std::string& path, ImageArray pixels, std::vector<std::string> channels,
+           std::map<std::string, std::string> metadata) {
+            if (pixels.ndim() != 3 || pixels.shape(2) != channels.size())
+                throw std::invalid_argument("expected an (H, W, " + std::to_string(channels.size()) +
+                                            ") float32 array, one plane per channel name");
+            int h = int(pixels.shape(0)), w = int(pixels.shape(1));
+            nb::gil_scoped_release release;
+            writeExr(path, w, h, {{"", channels, pixels.data()}}, metadata);
+        },
+        "path"_a, "pixels"_a, "channels"_a, "metadata"_a = std::map<std::string, std::string>(),
+        "Writes an (H, W, C) float32 array as a whole-image EXR with the given channel names (e.g. 'N.X').");
 
     m.def(
         "write_rgb_exr",
@@ -459,6 +511,9 @@ void bindRendering(nb::module_& m) {
         nb::dict meta;
         for (const auto& [k, v] : img.metadata) meta[k.c_str()] = v;
         meta["channels"] = img.channelNames;
+        // (x, y, width, height) of the pixels read within the (full width, full height) image.
+        meta["data_window"] = nb::make_tuple(img.window.x, img.window.y, img.width, img.height);
+        meta["display_window"] = nb::make_tuple(img.window.fullWidth, img.window.fullHeight);
         return nb::make_tuple(array, meta);
     });
 
