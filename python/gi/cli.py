@@ -142,10 +142,12 @@ def render_settings(loaded, integrator, params, spp, seed, threads, time_limit, 
     return settings
 
 
-def render_loaded(loaded, settings, label, show_progress=False):
-    bar, update = progress_bar(label, show_progress)
+def render_loaded(loaded, settings, label, show_progress=False, camera=None, progress=None):
+    """Renders a loaded scene (through `camera` when given); progress(fraction) instead of a bar
+    of its own when given."""
+    bar, update = progress_bar(label, show_progress and progress is None)
     try:
-        return require_core().render(loaded.scene, settings, update)
+        return require_core().render(loaded.scene, settings, progress or update, camera)
     finally:
         bar.close()
 
@@ -161,50 +163,96 @@ def render_scene(scene_path, integrator="path", params=None, spp=16, seed=0, thr
     return result, loaded, settings
 
 
-def exr_metadata(args, params, result, loaded, wall_seconds):
+def exr_metadata(args, params, result, loaded, wall_seconds, frame=None, seed=None):
     """String attributes that make the EXR reproducible: what rendered it, how, and when."""
     return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": loaded.camera_path,
-            "gi:integrator": args.integrator, "gi:spp": str(result.spp), "gi:seed": str(args.seed),
+            "gi:integrator": args.integrator, "gi:spp": str(result.spp),
+            "gi:seed": str(args.seed if seed is None else seed),
+            "gi:frame": "earliest time" if frame is None else str(frame),
             "gi:params": json.dumps(params, sort_keys=True), "gi:preset": args.preset or "",
             "gi:seconds": f"{result.stats.get('seconds', wall_seconds):.3f}",
             "gi:wall_seconds": f"{wall_seconds:.3f}",
             "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
 
 
-def summary(args, settings, result, wall_seconds, outputs):
+def summary(args, settings, result, wall_seconds, outputs, frame=None):
     stats = result.stats
-    return (f"{args.scene}: {settings.width}x{settings.height} {args.integrator} {result.spp} spp in "
-            f"{wall_seconds:.2f} s, {stats.get('rays_per_second', 0) / 1e6:.2f} Mrays/s, "
+    x0, y0, x1, y1 = result.data_window
+    size = f"{settings.width}x{settings.height}" + (
+        f" (tile {x1 - x0}x{y1 - y0} at {x0},{y0})" if (x1 - x0, y1 - y0) != (settings.width, settings.height) else "")
+    return (f"{args.scene}{'' if frame is None else f' frame {frame}'}: {size} {args.integrator} "
+            f"{result.spp} spp in {wall_seconds:.2f} s, {stats.get('rays_per_second', 0) / 1e6:.2f} Mrays/s, "
             f"{stats.get('samples_per_second', 0) / 1e3:.1f} ksamples/s -> {', '.join(outputs)}")
 
 
+def output_paths(args, parser):
+    """The EXR path pattern, and whether it names each frame apart."""
+    from .frames import has_frame_token
+    if args.output:
+        exr = args.output
+    elif args.frames:
+        exr = str(Path("out") / f"{Path(args.scene).stem}.####.exr")
+    else:
+        exr = str(Path("out") / f"{Path(args.scene).stem}.exr")
+    if args.frames and len(args.frames) > 1 and not has_frame_token(exr):
+        parser.error(f"-o {exr} names one file but --frames renders {len(args.frames)} frames; put #### or "
+                     f"$F4 in it (e.g. -o out/shot.####.exr)")
+    return exr
+
+
 def cmd_render(args, flags, parser):
-    from .loader import load_stage
+    from .frames import frame_path, frame_seed
+    from .sequence import Sequence
+    from .tiles import tile_window
     _core = require_core()
     params = flags.chosen(args, parser)
-    start = time.perf_counter()
-    loaded = load_stage(args.scene, camera=args.camera)
-    for message in loaded.warnings:
+    exr_pattern = output_paths(args, parser)
+    frames = args.frames or [None]
+    sequence = Sequence(args.scene, frames, camera=args.camera)
+    for message in sequence.warnings:
         warn(message)
-    settings = render_settings(loaded, args.integrator, params, args.spp, args.seed, args.threads,
-                               args.time_limit, tuple(args.resolution) if args.resolution else None, args.filter)
-    settings.preset = args.preset or ""
     label = f"{Path(args.scene).name} [{args.integrator}]"
-    result = render_loaded(loaded, settings, label, show_progress=sys.stderr.isatty())
-    wall_seconds = time.perf_counter() - start
-    for message in loaded.scene.warnings():
-        warn(message)
-
-    exr = Path(args.output) if args.output else Path("out") / f"{Path(args.scene).stem}.exr"
-    exr.parent.mkdir(parents=True, exist_ok=True)
-    _core.write_exr(str(exr), result, exr_metadata(args, params, result, loaded, wall_seconds))
-    outputs = [str(exr)]
-    if not args.no_png:
-        png = Path(args.png) if args.png else exr.with_suffix(".png")
-        png.parent.mkdir(parents=True, exist_ok=True)
-        _core.write_png(str(png), result.color, args.display, args.view, args.exposure)
-        outputs.append(str(png))
-    print(summary(args, settings, result, wall_seconds, outputs))
+    bar, update = progress_bar(f"{label} {len(frames)} frames" if args.frames else label, sys.stderr.isatty())
+    warned = set()  # each load's warnings once, not once per frame
+    start = time.perf_counter()  # each frame's time counts its load (done as the sequence advances)
+    try:
+        for index, frame in enumerate(sequence):
+            for message in frame.loaded.warnings:
+                if message not in warned:
+                    warned.add(message)
+                    warn(message)
+            seed = args.seed if frame.number is None else frame_seed(args.seed, frame.number)
+            settings = render_settings(frame.loaded, args.integrator, params, args.spp, seed, args.threads,
+                                       args.time_limit, tuple(args.resolution) if args.resolution else None,
+                                       args.filter)
+            settings.preset = args.preset or ""
+            if args.tile:
+                settings.data_window = tile_window(args.tile, settings.width, settings.height)
+            result = render_loaded(frame.loaded, settings, label, camera=frame.camera,
+                                   progress=lambda fraction: update((index + fraction) / len(frames)))
+            wall_seconds = time.perf_counter() - start
+            for message in frame.loaded.scene.warnings():
+                if message not in warned:
+                    warned.add(message)
+                    warn(message)
+            number = 0 if frame.number is None else frame.number
+            exr = Path(frame_path(exr_pattern, number))
+            exr.parent.mkdir(parents=True, exist_ok=True)
+            metadata = exr_metadata(args, params, result, frame.loaded, wall_seconds, frame.number, seed)
+            if args.tile:
+                metadata["gi:tile"] = args.tile.text
+            _core.write_exr(str(exr), result, metadata)
+            outputs = [str(exr)]
+            if not args.no_png and not args.tile:  # a tile's picture is written by the merge
+                png = Path(frame_path(args.png, number)) if args.png else exr.with_suffix(".png")
+                png.parent.mkdir(parents=True, exist_ok=True)
+                _core.write_png(str(png), result.color, args.display, args.view, args.exposure)
+                outputs.append(str(png))
+            bar.clear()
+            print(summary(args, settings, result, wall_seconds, outputs, frame.number), flush=True)
+            start = time.perf_counter()
+    finally:
+        bar.close()
     return 0
 
 
@@ -243,6 +291,14 @@ def add_render_parser(commands, flags):
                         help="image size (default: the stage's render settings, else 512 512)")
     render.add_argument("--camera", metavar="PRIM", help="camera prim path (default: the render settings' camera)")
     render.add_argument("--filter", default="box", choices=["box", "gaussian"], help="pixel filter (default box)")
+    render.add_argument("--frames", type=frame_range, metavar="RANGE",
+                        help="render these frames (time codes) in one process: 1-48, 1-48:2, 1,5,10-20; "
+                             "frame F is rendered with seed + F; -o then names each frame with #### or $F4 "
+                             "(default: one image at the earliest time, as usdrecord renders)")
+    render.add_argument("--tile", type=tile_spec, metavar="CxR:I",
+                        help="render only tile I (0-based, row by row from the top left) of the image cut into "
+                             "C columns and R rows; its pixels equal the whole image's bit for bit "
+                             "(`gi merge-tiles` joins the tiles; used by `gi job --tiles`)")
     render.add_argument("--png", help="PNG path (default: the EXR's path with .png)")
     render.add_argument("--no-png", action="store_true", help="write only the EXR")
     render.add_argument("--display", default="", help="OCIO display for the PNG (default: the config's)")
@@ -275,6 +331,30 @@ def add_reference_parser(commands):
     reference.add_argument("--target-error", type=float, default=0.002, metavar="E",
                            help="relative standard error of the image mean to reach (default 0.002)")
     add_common_render_options(reference)
+
+
+def frame_range(text):
+    from .frames import parse_frames
+    try:
+        return parse_frames(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def tile_spec(text):
+    from .tiles import parse_tile
+    try:
+        return parse_tile(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def tiling_spec(text):
+    from .tiles import parse_tile
+    try:
+        return parse_tile(text, with_index=False)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def comma_list(text):
@@ -324,6 +404,40 @@ def add_import_parser(commands):
     imp.add_argument("--name", help="name of the root prim (default: the source's file name)")
 
 
+def add_merge_tiles_parser(commands):
+    merge = commands.add_parser(
+        "merge-tiles", help="join the tile EXRs of `gi render --tile` into whole frames",
+        description="Reads each frame's tiles (EXRs whose data windows cover the image once) and writes the whole "
+                    "image with the same channels: the pixels of `gi render` without --tile, bit for bit.")
+    merge.add_argument("tiles_pattern", metavar="TILES",
+                       help="tile EXR paths with {tile} for the tile index and #### or $F4 for the frame")
+    merge.add_argument("--tiles", type=tiling_spec, required=True, metavar="CxR", help="the tiling, e.g. 2x2")
+    merge.add_argument("--frames", type=frame_range, default=[0], metavar="RANGE",
+                       help="the frames to merge (default: 0, for paths without a frame token)")
+    merge.add_argument("-o", "--output", required=True, help="merged EXR path, with #### or $F4 for the frame")
+    merge.add_argument("--no-png", action="store_true", help="write only the EXR")
+
+
+def add_job_parser(commands):
+    job = commands.add_parser(
+        "job", help="write an Open Job Description job bundle that renders frames on a farm",
+        usage="gi job SCENE --frames RANGE -o DIR [--chunk N] [--tiles CxR] [--name NAME] [-- RENDER OPTIONS]",
+        description="Writes DIR/template.yaml and DIR/parameter_values.yaml: an OpenJD job (Deadline Cloud's job "
+                    "bundle) whose tasks run `gi render` on chunks of frames, or with --tiles on tiles of each "
+                    "frame and then `gi merge-tiles`. Options after -- go to every `gi render` (--spp, "
+                    "--integrator, --seed, --resolution, ...).",
+        epilog="example: gi job shot.usda --frames 1-240 --chunk 8 --tiles 2x2 -o job -- --spp 256")
+    job.add_argument("scene", help="a USD file")
+    job.add_argument("--frames", type=frame_range, required=True, metavar="RANGE", help="frames: 1-240, 1-48:2, ...")
+    job.add_argument("--chunk", type=positive_int, default=1, metavar="N", help="frames per task (default 1; at most 150)")
+    job.add_argument("--tiles", type=tiling_spec, metavar="CxR",
+                     help="render each frame as C x R tiles, one task each, then merge them (bit for bit the "
+                          "whole frame; each tile repeats the integrator's preprocessing)")
+    job.add_argument("-o", "--output", required=True, metavar="DIR", help="the job bundle's folder")
+    job.add_argument("--name", help="the job's name (default: gi <scene name>)")
+    job.set_defaults(render_args=[])  # what follows `--` (main() splits it off): gi render options for every task
+
+
 def build_parser():
     """(parser, its render subparser, the integrator flags)."""
     parser = argparse.ArgumentParser(prog="gi", description="hdGi: CPU global illumination for USD scenes")
@@ -336,12 +450,20 @@ def build_parser():
     add_reference_parser(commands)
     add_study_parser(commands, flags)
     add_import_parser(commands)
+    add_merge_tiles_parser(commands)
+    add_job_parser(commands)
     return parser, render, flags
 
 
 def main(argv=None):
     parser, render_parser, flags = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    passed_on = []  # `gi job ... -- RENDER OPTIONS`: options for the job's `gi render` tasks
+    if argv[:1] == ["job"] and "--" in argv:
+        argv, passed_on = argv[:argv.index("--")], argv[argv.index("--") + 1:]
     args = parser.parse_args(argv)
+    if args.command == "job":
+        args.render_args = passed_on
     try:
         if args.command == "render":
             return cmd_render(args, flags, render_parser)
@@ -351,6 +473,12 @@ def main(argv=None):
         if args.command == "study":
             from .study import cmd_study
             return cmd_study(args)
+        if args.command == "job":
+            from .job import cmd_job
+            return cmd_job(args, render_parser, flags)
+        if args.command == "merge-tiles":
+            from .tiles import cmd_merge_tiles
+            return cmd_merge_tiles(args)
         if args.command == "import":
             from .importer import cmd_import
             return cmd_import(args)
