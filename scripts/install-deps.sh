@@ -22,4 +22,4 @@ if [ ! -x .venv/bin/python ]; then
   "$python" -m venv .venv
 fi
 .venv/bin/python -m pip install -q --upgrade pip
-.venv/bin/python -m pip install -q scikit-build-core nanobind numpy usd-core tqdm matplotlib flip-evaluator pytest
+.venv/bin/python -m pip install -q scikit-build-core nanobind numpy usd-core tqdm matplotlib flip-evaluator pytest openjd-cli
