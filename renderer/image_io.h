@@ -11,6 +11,7 @@ struct ImageLayer {
     std::string name;                  // "" for the main RGB, else a prefix like "N" or "albedo"
     std::vector<std::string> channels;  // e.g. {"R","G","B"} or {"Z"}
     const float* pixels;               // width*height*channels.size(), row 0 at the top
+    bool half = false;                 // stored as 16-bit half floats (else 32-bit floats)
 };
 
 // Where a width x height image lies in a larger one (EXR's data window in its display window):
@@ -29,6 +30,7 @@ struct LoadedImage {
     DataWindow window;                        // where it lies in the display window
     std::vector<float> pixels;
     std::vector<std::string> channelNames;
+    std::vector<std::string> channelFormats;  // per channel as stored: "half", "float", "uint", ...
     std::map<std::string, std::string> metadata;
 };
 LoadedImage readImage(const std::string& path);

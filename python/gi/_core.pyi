@@ -165,8 +165,12 @@ def write_exr(path: str, result: RenderResult, metadata: dict[str, str] = {}) ->
     the EXR's data window within the whole image)."""
 
 def write_channels_exr(path: str, pixels: npt.NDArray[np.float32], channels: list[str],
-                       metadata: dict[str, str] = {}) -> None:
-    """A whole-image float EXR from an (H, W, C) array and C channel names (e.g. 'N.X')."""
+                       metadata: dict[str, str] = {},
+                       data_window: Optional[tuple[int, int, int, int]] = None,
+                       half: list[bool] = []) -> None:
+    """An EXR from an (H, W, C) array and C channel names (e.g. 'N.X'). data_window (x, y, full
+    width, full height): the array is that part of a larger image. half: per channel, stored as
+    16-bit half floats (else 32-bit floats)."""
 
 def write_rgb_exr(path: str, color: npt.NDArray[np.float32], metadata: dict[str, str] = {}) -> None:
     """A plain linear R,G,B EXR from an (H, W, 3) array."""
@@ -178,7 +182,7 @@ def write_png(path: str, color: npt.NDArray[np.float32], display: str = "", view
 
 def read_image(path: str) -> tuple[npt.NDArray[np.float32], dict]:
     """(H, W, C) float pixels of the data window and the file's metadata, through OpenImageIO; the
-    metadata also has 'channels', 'data_window' (x, y, W, H) and 'display_window' (full W, full H)."""
+    metadata also has 'channels', 'channel_formats' ('half', 'float', ...), 'data_window' (x, y, W, H) and 'display_window' (full W, full H)."""
 
 def display_transform(color: npt.NDArray[np.float32], display: str = "", view: str = "",
                       exposure: float = 0.0, config: str = "") -> npt.NDArray[np.float32]:

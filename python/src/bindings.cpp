@@ -459,16 +459,30 @@ void bindRendering(nb::module_& m) {
     m.def(
         "write_channels_exr",
         [](const std::string& path, ImageArray pixels, std::vector<std::string> channels,
-           std::map<std::string, std::string> metadata) {
+           std::map<std::string, std::string> metadata, std::optional<std::tuple<int, int, int, int>> dataWindow,
+           std::vector<bool> half) {
             if (pixels.ndim() != 3 || pixels.shape(2) != channels.size())
                 throw std::invalid_argument("expected an (H, W, " + std::to_string(channels.size()) +
                                             ") float32 array, one plane per channel name");
+            if (!half.empty() && half.size() != channels.size())
+                throw std::invalid_argument("half: one flag per channel");
             int h = int(pixels.shape(0)), w = int(pixels.shape(1));
+            DataWindow window;
+            if (dataWindow) std::tie(window.x, window.y, window.fullWidth, window.fullHeight) = *dataWindow;
+            // One layer per channel, so each keeps its own storage type.
+            std::vector<std::vector<float>> planes(channels.size(), std::vector<float>(size_t(w) * h));
+            std::vector<ImageLayer> layers;
+            for (size_t c = 0; c < channels.size(); ++c) {
+                for (size_t p = 0; p < size_t(w) * h; ++p) planes[c][p] = pixels.data()[p * channels.size() + c];
+                layers.push_back({"", {channels[c]}, planes[c].data(), !half.empty() && half[c]});
+            }
             nb::gil_scoped_release release;
-            writeExr(path, w, h, {{"", channels, pixels.data()}}, metadata);
+            writeExr(path, w, h, layers, metadata, window);
         },
         "path"_a, "pixels"_a, "channels"_a, "metadata"_a = std::map<std::string, std::string>(),
-        "Writes an (H, W, C) float32 array as a whole-image EXR with the given channel names (e.g. 'N.X').");
+        "data_window"_a = nb::none(), "half"_a = std::vector<bool>(),
+        "Writes an (H, W, C) float32 array as an EXR with the given channel names (e.g. 'N.X'); data_window "
+        "(x, y, full width, full height) places it in a larger image; half: per channel, 16-bit storage.");
 
     m.def(
         "write_rgb_exr",
@@ -511,6 +525,7 @@ void bindRendering(nb::module_& m) {
         nb::dict meta;
         for (const auto& [k, v] : img.metadata) meta[k.c_str()] = v;
         meta["channels"] = img.channelNames;
+        meta["channel_formats"] = img.channelFormats;
         // (x, y, width, height) of the pixels read within the (full width, full height) image.
         meta["data_window"] = nb::make_tuple(img.window.x, img.window.y, img.width, img.height);
         meta["display_window"] = nb::make_tuple(img.window.fullWidth, img.window.fullHeight);
