@@ -83,6 +83,11 @@ def test_products_are_written_with_their_vars_resolution_camera_and_window(tmp_p
     assert side_meta["data_window"] == (0, 0, 6, 10) and side_meta["display_window"] == (12, 10)
     assert side_meta["gi:camera"] == "/Side"
     assert side_meta["channel_formats"] == ["half"] * 3
+    run_gi("render", scene, "--frames", "1", "--spp", 2, "--seed", 4, "--resolution", 12, 10, "--camera", "/Side",
+           "-o", tmp_path / "side_plain.exr", "--no-png")
+    side_plain, _ = read(tmp_path / "side_plain.exr")
+    # The same pixels through /Side, rounded to half as the file stores them (both round to nearest even).
+    assert np.array_equal(side, side_plain[:, :6, :3].astype(np.float16).astype(np.float32))
     # A camera that is not there: warned, rendered through the settings' camera.
     assert "/Render/Lost: camera /NoSuchCamera does not exist" in proc.stderr
     assert (tmp_path / "lost.exr").exists()
