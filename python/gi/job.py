@@ -18,6 +18,7 @@ TEMPLATE = "template.yaml"
 PARAMETER_VALUES = "parameter_values.yaml"
 # The flags a job sets itself in every task.
 OWN_FLAGS = ("-o", "--output", "--frames", "--tile", "--png")
+MAX_CHUNK = 150  # TASK_CHUNKING's largest defaultTaskCount
 
 
 def job_parameters(scene, output_dir, frames, chunk):
@@ -29,7 +30,7 @@ def job_parameters(scene, output_dir, frames, chunk):
          "description": "where the frames go"},
         {"name": "Frames", "type": "STRING", "default": format_frames(frames),
          "description": "frames to render: an OpenJD range expression (1-240, 1-48:2, 1,5,10-20)"},
-        {"name": "ChunkSize", "type": "INT", "default": chunk, "minValue": 1, "maxValue": 150,
+        {"name": "ChunkSize", "type": "INT", "default": chunk, "minValue": 1, "maxValue": MAX_CHUNK,
          "description": "frames per task"},
         {"name": "Gi", "type": "STRING", "default": "gi",
          "description": "the gi command on the workers (a name on their PATH, or a path)"},
@@ -47,12 +48,13 @@ def run_action(arguments):
     return {"actions": {"onRun": {"command": "{{Param.Gi}}", "args": arguments}}}
 
 
-def template(scene, render_args, tiling, name):
-    """The job template (a dict in the jobtemplate-2023-09 schema)."""
+def template(scene, render_args, tiling, name, frames, chunk):
+    """The job template (a dict in the jobtemplate-2023-09 schema); `frames` and `chunk` are the
+    defaults of its Frames and ChunkSize parameters."""
     stem = Path(scene).stem
     frames_out = "{{Param.OutputDir}}/" + stem + ".####.exr"
     render = ["render", "{{Param.SceneFile}}", "--frames", "{{Task.Param.Frame}}", *render_args]
-    definitions, _ = job_parameters(scene, ".", [1], 1)
+    definitions, _ = job_parameters(scene, ".", frames, chunk)
     job = {"specificationVersion": "jobtemplate-2023-09", "extensions": ["TASK_CHUNKING"], "name": name,
            "parameterDefinitions": definitions}
     if tiling is None:
@@ -91,6 +93,8 @@ def check_render_args(render_args, render_parser, scene):
 
 def cmd_job(args, render_parser, flags):
     scene = Path(args.scene)
+    if args.chunk > MAX_CHUNK:
+        raise ValueError(f"--chunk {args.chunk}: an OpenJD task chunk holds at most {MAX_CHUNK} frames")
     if not scene.exists():
         raise ValueError(f"{scene}: no such file")
     render_args = list(args.render_args)
@@ -105,7 +109,7 @@ def cmd_job(args, render_parser, flags):
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     name = args.name or f"gi {scene.stem}"
-    job = template(scene, render_args, args.tiles, name)
+    job = template(scene, render_args, args.tiles, name, args.frames, args.chunk)
     _, values = job_parameters(scene, out, args.frames, args.chunk)
     values.update(Frames=format_frames(args.frames), ChunkSize=args.chunk)
     (out / TEMPLATE).write_text(to_yaml(job))

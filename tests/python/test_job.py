@@ -102,6 +102,8 @@ def test_job_without_tiles_renders_chunks(tmp_path):
     run_gi("job", scene, "--frames", "2-4:2", "--chunk", 1, "-o", bundle, "--", "--spp", 1, "--resolution", 8, 8)
     template = json.loads((bundle / "template.yaml").read_text())
     assert [step["name"] for step in template["steps"]] == ["Render"]
+    defaults = {p["name"]: p.get("default") for p in template["parameterDefinitions"]}
+    assert defaults["Frames"] == "2,4" and defaults["ChunkSize"] == 1
     assert openjd("check", bundle / "template.yaml").returncode == 0
     run = openjd_run(bundle, tmp_path, "Render")
     assert run.returncode == 0, run.stdout[-3000:]
@@ -134,6 +136,7 @@ def test_merge_names_a_missing_tile(tmp_path):
     (("--", "--integrator", "direct", "--path-depth", "3"), "--path-depth is not a parameter of 'direct'"),
     (("--", "-o", "x.exr"), "-o is set by the job itself"),
     (("--tiles", "2x", "--"), "is not a tile"),
+    (("--chunk", "151"), "at most 150 frames"),
 ])
 def test_job_refuses_what_would_fail_on_the_farm(tmp_path, options, message):
     proc = run_gi("job", CORNELL, "--frames", "1-2", "-o", tmp_path / "bundle", *options, check=False)
