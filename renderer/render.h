@@ -13,8 +13,22 @@
 
 namespace gi {
 
+// Pixels [x0, x1) x [y0, y1) of the image, row 0 at the top. Empty (the default): the whole image.
+struct PixelWindow {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+    bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+    long long area() const { return empty() ? 0 : (long long)(x1 - x0) * (y1 - y0); }
+};
+
 struct RenderSettings {
     int width = 512, height = 512;
+    // The pixels to render (a data window: a farm tile, a RenderProduct's dataWindowNDC); the
+    // rest of the film stays empty. Each pixel's samples depend only on its position and the
+    // seed, and the camera, the passes and preprocessing are those of the whole image, so the
+    // pixels inside equal the whole image's bit for bit (for integrators that keep no state
+    // across pixels during a pass; see gi.job). Empty: the whole image.
+    PixelWindow window;
     int spp = 16;
     std::string integrator = "path";
     ParamSet params;

@@ -23,5 +23,6 @@ if [ ! -x .venv/bin/python ]; then
 fi
 .venv/bin/python -m pip install -q --upgrade pip
 # pyoidn ships Intel Open Image Denoise 2.x (gi render --denoise, gi study's denoised rows); optional
-# for users, installed here so that CI tests the denoiser.
-.venv/bin/python -m pip install -q scikit-build-core nanobind numpy usd-core tqdm matplotlib flip-evaluator pytest pyoidn
+# for users, installed here so that CI tests the denoiser. openjd-cli runs the farm-job tests
+# (openjd check / openjd run).
+.venv/bin/python -m pip install -q scikit-build-core nanobind numpy usd-core tqdm matplotlib flip-evaluator pytest pyoidn openjd-cli

@@ -441,21 +441,32 @@ def framing_camera(stage, time, resolution):
 
 
 def as_time_code(time):
+    """A frame number as a time code; None: the earliest time, as usdrecord renders without
+    frames (an attribute authored only as time samples has its first sample there, where at the
+    default time it would have no value)."""
     if time is None:
-        return Usd.TimeCode.Default()
+        return Usd.TimeCode.EarliestTime()
     return time if isinstance(time, Usd.TimeCode) else Usd.TimeCode(float(time))
 
 
-def load_stage(path, scene=None, camera=None, time=None, allow_missing=False) -> LoadedScene:
+def camera_at(stage, camera_path, time):
+    """The CameraDesc of the camera prim `camera_path` at `time` (a frame of a camera move)."""
+    prim = stage.GetPrimAtPath(camera_path)
+    return camera_desc(prim, UsdGeom.XformCache(as_time_code(time)).GetLocalToWorldTransform(prim),
+                       as_time_code(time))
+
+
+def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missing=False) -> LoadedScene:
     """Loads the USD file `path` into `scene` (a new gi._core.Scene if None).
 
     camera: a camera prim path overriding the render settings' camera.
-    time: a time code or frame number (default: the default time).
+    time: a time code or frame number (default: the earliest time, see as_time_code).
+    stage: the stage of `path` when it is open already (each frame of a sequence reads it).
     allow_missing: render a stage whose sublayers, references or payloads cannot all be found (each
     is a warning) instead of raising SceneError naming them.
     Raises SceneError naming the file when it is missing or not USD."""
     file = str(path)
-    stage = open_stage(file, allow_missing)
+    stage = stage if stage is not None else open_stage(file, allow_missing)
     scene = scene if scene is not None else descriptors.new_scene()
     time = as_time_code(time)
     loader = StageLoader(stage, scene, time, file)
