@@ -106,6 +106,9 @@ def cmd_job(args, render_parser, flags):
     if args.tiles is not None and render.time_limit:
         raise ValueError("--tiles with --time-limit: a time-limited render stops where the clock says, so tiles "
                          "would not join into one image; give --spp instead")
+    if args.tiles is not None and render.integrator == "auto":
+        raise ValueError("--tiles with --integrator auto: auto chooses a technique per render from measured timings, "
+                         "so tiles could differ; give the integrator it chooses (gi render --integrator auto says)")
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     name = args.name or f"gi {scene.stem}"

@@ -137,6 +137,7 @@ def test_merge_names_a_missing_tile(tmp_path):
     (("--", "-o", "x.exr"), "-o is set by the job itself"),
     (("--tiles", "2x", "--"), "is not a tile"),
     (("--chunk", "151"), "at most 150 frames"),
+    (("--tiles", "2x2", "--", "--integrator", "auto"), "--tiles with --integrator auto"),
 ])
 def test_job_refuses_what_would_fail_on_the_farm(tmp_path, options, message):
     proc = run_gi("job", CORNELL, "--frames", "1-2", "-o", tmp_path / "bundle", *options, check=False)
