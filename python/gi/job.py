@@ -13,6 +13,7 @@ import shlex
 from pathlib import Path
 
 from .frames import format_frames
+from .tiles import why_tiles_differ
 
 TEMPLATE = "template.yaml"
 PARAMETER_VALUES = "parameter_values.yaml"
@@ -103,9 +104,8 @@ def cmd_job(args, render_parser, flags):
     except SystemExit:  # argparse has printed what is wrong with them
         raise ValueError(f"the render options {shlex.join(render_args)!r} are not valid for gi render") from None
     flags.chosen(render, render_parser)  # integrator flags the integrator does not take
-    if args.tiles is not None and render.time_limit:
-        raise ValueError("--tiles with --time-limit: a time-limited render stops where the clock says, so tiles "
-                         "would not join into one image; give --spp instead")
+    if args.tiles is not None and why_tiles_differ(render):
+        raise ValueError(f"--tiles with {why_tiles_differ(render)}")
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     name = args.name or f"gi {scene.stem}"

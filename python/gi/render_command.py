@@ -89,8 +89,10 @@ def cmd_render(args, flags, parser):
     from .frames import frame_seed
     from .loader import camera_at
     from .sequence import Sequence
-    from .tiles import tile_window
+    from .tiles import tile_window, why_tiles_differ
     params = flags.chosen(args, parser)
+    if args.tile and why_tiles_differ(args):
+        parser.error(f"--tile with {why_tiles_differ(args)}")
     denoiser = None
     if args.denoise:  # before rendering: a missing denoiser must not cost a render first
         from .denoise import open_denoiser

@@ -48,6 +48,20 @@ def parse_tile(text, with_index=True):
     return Tiling(columns, rows, index)
 
 
+def why_tiles_differ(render):
+    """Why the tiles of a `gi render` with these options would not join into its whole frame, or ''."""
+    if render.time_limit:
+        return "--time-limit: a time-limited render stops where the clock says, so its tiles would not join " \
+               "into one image; give --spp instead"
+    if render.integrator == "auto":
+        return "--integrator auto: auto chooses a technique per render from measured pilot timings, so tiles " \
+               "could differ; give the integrator it chooses (gi render --integrator auto says)"
+    if getattr(render, "denoise", False):
+        return "--denoise: the denoiser filters across pixels, so tiles denoised apart would not join into the " \
+               "denoised frame; denoise whole frames"
+    return ""
+
+
 def tile_window(tiling, width, height):
     """(x0, y0, x1, y1) of the tile in a width x height image. ValueError when the image has fewer
     pixels than the tiling has columns or rows."""

@@ -120,6 +120,12 @@ def test_a_failing_task_is_reported_with_its_parameters_and_log(tmp_path):
     assert f"gi: error: {tmp_path / 'moved_away.usda'}: no such file" in run.stdout  # its log
 
 
+def test_a_tile_of_a_render_that_tiles_cannot_join_is_a_usage_error(tmp_path):
+    proc = run_gi("render", CORNELL, "--tile", "2x2:0", "--time-limit", "1", "-o", tmp_path / "t.exr", check=False)
+    assert proc.returncode == 2 and "--tile with --time-limit" in proc.stderr
+    assert not (tmp_path / "t.exr").exists()
+
+
 def test_merge_names_a_missing_tile(tmp_path):
     _, scene = animated_ball_stage(tmp_path)
     for index in (0, 1, 3):
@@ -137,6 +143,8 @@ def test_merge_names_a_missing_tile(tmp_path):
     (("--", "-o", "x.exr"), "-o is set by the job itself"),
     (("--tiles", "2x", "--"), "is not a tile"),
     (("--chunk", "151"), "at most 150 frames"),
+    (("--tiles", "2x2", "--", "--integrator", "auto"), "--tiles with --integrator auto"),
+    (("--tiles", "2x2", "--", "--denoise"), "--tiles with --denoise"),
 ])
 def test_job_refuses_what_would_fail_on_the_farm(tmp_path, options, message):
     proc = run_gi("job", CORNELL, "--frames", "1-2", "-o", tmp_path / "bundle", *options, check=False)
