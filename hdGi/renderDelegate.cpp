@@ -72,6 +72,7 @@ VtDictionary HdGiRenderDelegate::GetRenderStats() const {
     stats["renderSeconds"] = s.renderSeconds;
     stats["samples"] = s.samples;
     stats["rays"] = double(s.rays);
+    stats["nonFiniteSamples"] = double(s.nonFiniteSamples);  // must stay 0 (tests/hydra assert it)
     stats["converged"] = s.converged;
     stats["lastTileTime"] = s.lastTileTime;
     // Of the textures the current scene binds, how many its build read from disk (an edit

@@ -87,6 +87,7 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
 
     HdGiRenderJob job;
     job.settings = HdGiReadSettings(*delegate);
+    job.denoise = HdGiReadDenoise(*delegate);
     job.camera = CameraOf(state->GetCamera(), view, projection);
     job.projection = projection;
     job.dataWindow = dataWindow;

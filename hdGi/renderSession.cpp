@@ -73,19 +73,21 @@ void HdGiRenderSession::Run() {
         std::lock_guard<std::mutex> lock(_statsMutex);
         _active = renderer.get();
     }
-    int target = std::max(1, settings.spp), taken = 0, pass = 1;
+    int target = std::max(1, settings.spp), taken = 0;
     bool converged = false;
     while (!_thread->IsStopRequested()) {
         if (_thread->IsPauseRequested()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
             continue;
         }
-        // Passes sized from the measured rate so the last one ends at the deadline (render.h).
-        int count = renderer->passSamplesBefore(deadline, std::min(pass, target - taken));
-        gi::PassEnd end = renderer->renderPass(taken, count, deadline, _cancel);
-        // A pass split into chunks (progressivePhotonMap) keeps the chunks it finished.
+        // Passes sized from the measured rate so the last one ends at the deadline; one cut by
+        // a pause is redone on resume, so the image is the uninterrupted one (render.h).
+        const bool choosing = renderer->autoChoice().integrator.empty() && settings.integrator == gi::kAutoIntegrator;
+        gi::PassEnd end = renderer->renderNextPass(kMaxPassSamples, deadline, _cancel);
+        if (choosing && !renderer->autoChoice().integrator.empty())  // "auto" chose in that pass's preprocess
+            TF_STATUS("hdGi: %s", renderer->autoChoice().summary().c_str());
         taken = renderer->samplesTaken();
-        if (end == gi::PassEnd::Cancelled) continue;  // paused or stopped mid-pass: redone
+        if (end == gi::PassEnd::Cancelled) continue;
         bool timeUp = end == gi::PassEnd::Deadline || (deadline > 0 && gi::steadySeconds() >= deadline);
         converged = taken >= target || timeUp;
         if (stats.firstPixelSeconds == 0) stats.firstPixelSeconds = SecondsSince(start);
@@ -93,14 +95,20 @@ void HdGiRenderSession::Run() {
         stats.samples = taken;
         stats.targetSamples = target;
         stats.rays = renderer->stats().rays;
+        stats.nonFiniteSamples = renderer->stats().nonFiniteSamples;
         stats.renderSeconds = SecondsSince(start);
         stats.converged = converged;
         {
             std::lock_guard<std::mutex> lock(_statsMutex);
             _stats = stats;
         }
-        if (converged) break;
-        pass = std::min(pass * 2, kMaxPassSamples);
+        if (converged) {
+            // tests/hydra look for this warning (hdgi_errors): the film hides bad samples.
+            if (stats.nonFiniteSamples > 0)
+                TF_WARN("hdGi: %llu non-finite samples (NaN, Inf or negative) were replaced by zero",
+                        (unsigned long long)stats.nonFiniteSamples);
+            break;
+        }
     }
     std::lock_guard<std::mutex> lock(_statsMutex);
     _stats.lastTileTime = std::max(_stats.lastTileTime, renderer->lastTileTime());
@@ -121,6 +129,22 @@ float ClipDepth(GfMatrix4d const& p, float viewDepth) {
 
 }  // namespace
 
+std::vector<float> HdGiRenderSession::_Color(gi::Film const& film, HdGiRenderJob const& job, bool converged) {
+    if (!job.denoise || _denoiserMissing) return film.color();
+    try {
+        if (!_denoiser) _denoiser = std::make_unique<gi::Denoiser>(std::vector<std::string>{}, job.settings.threads);
+        // The final pass gets OIDN's final-frame set-up (albedo and normal prefiltered); the
+        // passes before it the one-filter preview set-up, to keep the viewport responsive.
+        return _denoiser->denoise(film, converged);
+    } catch (gi::DenoiserUnavailable const& e) {
+        _denoiserMissing = true;
+        TF_WARN("hdGi: gi:denoise is on, but %s; showing the raw colour", e.what());
+    } catch (std::exception const& e) {
+        TF_WARN("hdGi: denoising failed (%s); showing the raw colour", e.what());
+    }
+    return film.color();
+}
+
 void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged) {
     gi::Film const& film = renderer.film();
     GfRect2i const& window = job.dataWindow;
@@ -129,7 +153,7 @@ void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob c
         if (!buffer) continue;
         TfToken const& name = aov.aovName;
         if (name == HdAovTokens->color) {
-            buffer->WriteFloats(film.color().data(), 3, window, 1.0f);
+            buffer->WriteFloats(_Color(film, job, converged).data(), 3, window, 1.0f);
         } else if (name == HdAovTokens->depth || name == HdAovTokens->cameraDepth) {
             std::vector<float> depth = film.depth();
             for (float& d : depth) {

@@ -12,6 +12,7 @@
 #include "pxr/imaging/hd/renderThread.h"
 #include "pxr/pxr.h"
 #include "renderParam.h"
+#include "renderer/denoiser.h"
 #include "renderer/render.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
@@ -24,6 +25,7 @@ struct HdGiRenderJob {
     GfRect2i dataWindow;
     HdRenderPassAovBindingVector aovs;
     bool domeLightCameraVisibility = true;
+    bool denoise = false;  // gi:denoise: the colour AOV denoised after each pass
 };
 
 struct HdGiSessionStats {
@@ -32,6 +34,9 @@ struct HdGiSessionStats {
     int textures = 0, texturesRead = 0;  // bound by the last scene build; of them read from disk
     int samples = 0, targetSamples = 0;
     uint64_t rays = 0;
+    // Samples the renderer replaced because they were NaN, Inf or negative (a renderer bug;
+    // the film never shows them, so this count is the only trace).
+    uint64_t nonFiniteSamples = 0;
     bool converged = false;
 };
 
@@ -49,6 +54,8 @@ public:
 
 private:
     void _WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged);
+    // The film's colour, denoised when the job asks for it and Open Image Denoise is there.
+    std::vector<float> _Color(gi::Film const& film, HdGiRenderJob const& job, bool converged);
 
     HdRenderThread* _thread;
     HdGiRenderParam* _param;
@@ -62,6 +69,10 @@ private:
     mutable std::mutex _statsMutex;
     HdGiSessionStats _stats;
     gi::Renderer const* _active = nullptr;  // guarded by _statsMutex
+    // Used on the render thread only; loaded on the first denoised pass. _denoiserMissing: it
+    // could not be loaded (warned once; colour stays raw).
+    std::unique_ptr<gi::Denoiser> _denoiser;
+    bool _denoiserMissing = false;
 };
 
 PXR_NAMESPACE_CLOSE_SCOPE

@@ -56,6 +56,10 @@ TfToken const& HdGiSettingsTokens::Preset() {
     static TfToken t("gi:preset");
     return t;
 }
+TfToken const& HdGiSettingsTokens::Denoise() {
+    static TfToken t("gi:denoise");
+    return t;
+}
 TfToken HdGiSettingsTokens::Param(std::string const& integrator, std::string const& param) {
     return TfToken("gi:" + integrator + ":" + param);
 }
@@ -71,6 +75,8 @@ HdRenderSettingDescriptorList HdGiSettingDescriptors() {
     std::string presets;
     for (gi::Preset const& p : gi::presets()) presets += (presets.empty() ? "" : ", ") + p.name;
     list.push_back({"Preset (" + presets + "; empty = the defaults)", HdGiSettingsTokens::Preset(), VtValue(std::string())});
+    list.push_back({"Denoise the colour (Open Image Denoise 2.x: pip install pyoidn)", HdGiSettingsTokens::Denoise(),
+                    VtValue(false)});
     for (gi::IntegratorInfo const& info : gi::integratorRegistry())
         for (gi::ParamInfo const& p : info.params)
             list.push_back({info.name + ": " + p.name + " (" + p.description + ")",
@@ -109,6 +115,11 @@ gi::RenderSettings HdGiReadSettings(HdRenderDelegate const& delegate) {
         if (s.preset.empty() || Typed(p, v) != Typed(p, p.defaultValue)) s.params.set(p.name, v);
     }
     return s;
+}
+
+bool HdGiReadDenoise(HdRenderDelegate const& delegate) {
+    double v = 0;
+    return ToDouble(delegate.GetRenderSetting(HdGiSettingsTokens::Denoise()), &v) && v != 0;
 }
 
 void HdGiRenderSettings::_Sync(HdSceneDelegate*, HdRenderParam*, HdDirtyBits const*) {

@@ -16,6 +16,7 @@ struct HdGiSettingsTokens {
     static TfToken const& Seed();
     static TfToken const& TimeLimit();
     static TfToken const& Preset();
+    static TfToken const& Denoise();
     static TfToken Param(std::string const& integrator, std::string const& param);
 };
 
@@ -38,5 +39,8 @@ private:
 // The renderer's settings for the delegate's current values (resolution and camera aside).
 // Unknown integrator names fall back to "path" with a warning.
 gi::RenderSettings HdGiReadSettings(HdRenderDelegate const& delegate);
+
+// gi:denoise: whether the colour AOV is denoised (Open Image Denoise) after each pass.
+bool HdGiReadDenoise(HdRenderDelegate const& delegate);
 
 PXR_NAMESPACE_CLOSE_SCOPE

@@ -8,13 +8,25 @@
 namespace gi {
 
 void writeExr(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
-              const std::map<std::string, std::string>& metadata) {
+              const std::map<std::string, std::string>& metadata, const DataWindow& window) {
     std::vector<std::string> names;
+    std::vector<OIIO::TypeDesc> formats;
+    bool anyHalf = false;
     for (const ImageLayer& l : layers)
-        for (const std::string& c : l.channels) names.push_back(l.name.empty() ? c : l.name + "." + c);
+        for (const std::string& c : l.channels) {
+            names.push_back(l.name.empty() ? c : l.name + "." + c);
+            formats.push_back(l.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+            anyHalf = anyHalf || l.half;
+        }
     int nc = int(names.size());
     OIIO::ImageSpec spec(width, height, nc, OIIO::TypeDesc::FLOAT);
     spec.channelnames = names;
+    if (anyHalf) spec.channelformats = formats;  // EXR keeps a type per channel
+    if (window.fullWidth > 0) {
+        spec.x = window.x, spec.y = window.y;
+        spec.full_x = spec.full_y = 0;
+        spec.full_width = window.fullWidth, spec.full_height = window.fullHeight;
+    }
     spec.attribute("compression", "zip");
     for (const auto& [key, value] : metadata) spec.attribute(key, value);
     std::vector<float> interleaved(size_t(width) * height * nc);
@@ -53,6 +65,8 @@ LoadedImage readImage(const std::string& path) {
     img.height = spec.height;
     img.channels = spec.nchannels;
     img.channelNames = spec.channelnames;
+    for (int c = 0; c < spec.nchannels; ++c) img.channelFormats.push_back(spec.channelformat(c).c_str());
+    img.window = DataWindow{spec.x - spec.full_x, spec.y - spec.full_y, spec.full_width, spec.full_height};
     img.pixels.resize(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
         throw std::runtime_error(path + ": " + in->geterror());

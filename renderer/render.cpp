@@ -54,6 +54,13 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
         throw std::invalid_argument("resolution " + std::to_string(settings.width) + "x" +
                                     std::to_string(settings.height) + " is out of range");
     if (!scene.committed()) throw std::logic_error("the scene must be committed before rendering");
+    const PixelWindow& win = settings.window;
+    if (!(win.x0 == 0 && win.y0 == 0 && win.x1 == 0 && win.y1 == 0) &&
+        (win.empty() || win.x0 < 0 || win.y0 < 0 || win.x1 > settings.width || win.y1 > settings.height))
+        throw std::invalid_argument("data window [" + std::to_string(win.x0) + ", " + std::to_string(win.x1) + ") x [" +
+                                    std::to_string(win.y0) + ", " + std::to_string(win.y1) + ") is not inside the " +
+                                    std::to_string(settings.width) + "x" + std::to_string(settings.height) + " image");
+    if (win.empty()) settings_.window = PixelWindow{0, 0, settings.width, settings.height};
     const IntegratorInfo* info = findIntegrator(settings.integrator);
     if (!info) {
         std::string names;
@@ -62,7 +69,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
     }
     info_ = info;
     settings_.params = withPreset(settings.preset, settings.integrator, settings.params);
-    integrator_ = info->create(settings_.params);
+    if (settings.integrator != kAutoIntegrator) integrator_ = info->create(settings_.params);
     CameraDesc desc = camera ? *camera : scene.hasCamera() ? scene.cameraDesc() : defaultCamera(scene);
     if (!desc.transform.isFinite() || desc.transform.det3() == 0) {
         scene.warn("camera " + desc.name + ": NaN, Inf or singular transform; using a camera that frames the scene");
@@ -74,12 +81,35 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
             scene.warn("camera " + desc.name + ": NaN or Inf in its lens or clipping settings; defaults used there");
             break;
         }
+    cameraDesc_ = desc;
     camera_ = Camera(desc, settings.width, settings.height);
+}
+
+bool Renderer::chooseAutomatically(const std::atomic<bool>* cancel, double deadline) {
+    const IntegratorInfo& automatic = *info_;
+    double share = paramValue(automatic, settings_.params, "autoPilotShare");
+    double budget = deadline > 0 ? std::max(0.0, deadline - steadySeconds())
+                                 : paramValue(automatic, settings_.params, "autoHorizon");
+    autoChoice_ = chooseIntegrator(scene_, settings_, cameraDesc_, (1 - share) * budget, share * budget, cancel);
+    if (autoChoice_.cancelled) return false;
+    // The chosen technique takes the render's preset and the parameters every integrator takes.
+    ParamSet shared;
+    for (const auto& [name, value] : settings_.params.values())
+        if (name == "sampleClamp") shared.set(name, value);
+    info_ = findIntegrator(autoChoice_.integrator);
+    settings_.integrator = autoChoice_.integrator;
+    settings_.params = withPreset(settings_.preset, settings_.integrator, shared);
+    integrator_ = info_->create(settings_.params);
+    return true;
 }
 
 bool Renderer::preprocess(const std::atomic<bool>* cancel, double deadline) {
     if (preprocessed_) return true;
     auto start = Clock::now();
+    if (!integrator_ && !chooseAutomatically(cancel, deadline)) {
+        stats_.preprocessSeconds += secondsSince(start);
+        return false;
+    }
     std::atomic<int> scaledDown{0};
     PreprocessContext context{scene_, camera_, settings_.width, settings_.height, settings_.seed, cancel};
     if (deadline > 0) {
@@ -102,6 +132,7 @@ bool Renderer::preprocess(const std::atomic<bool>* cancel, double deadline) {
 void Renderer::reset() {
     film_.clear();
     samplesTaken_ = 0;
+    nextPassSamples_ = 1;
     progress_ = 0;
 }
 
@@ -113,7 +144,7 @@ int Renderer::passSamplesBefore(double deadline, int wanted) const {
     wanted = std::max(1, wanted);
     if (deadline <= 0 || stats_.cameraSamples == 0 || !(stats_.renderSeconds > 0)) return wanted;
     // Seconds per sample per pixel over the whole image, passes' overheads included.
-    double pixels = double(settings_.width) * settings_.height;
+    double pixels = double(settings_.window.area());
     double secondsPerSpp = stats_.renderSeconds * pixels / double(stats_.cameraSamples);
     // Half the time left: passes shrink towards the deadline, so the one it cuts has one sample
     // per pixel (unless the rate halves) and every pixel ends with n or n + 1.
@@ -150,6 +181,12 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
     int w = settings_.width, h = settings_.height;
     int tilesX = (w + kTileSize - 1) / kTileSize, tilesY = (h + kTileSize - 1) / kTileSize;
     int tileCount = tilesX * tilesY;
+    // The pixels sampled: the window grown by the filter's reach, so that a window pixel gets
+    // every sample the whole image gives it. Tiles keep the whole image's grid (and merge in its
+    // order), so the sums in each pixel are added in the same order as in the whole image.
+    const int reach = film_.filter().name == "box" ? 0 : int(std::ceil(film_.filter().radius - 0.5f));
+    const PixelWindow sampled{std::max(0, settings_.window.x0 - reach), std::max(0, settings_.window.y0 - reach),
+                              std::min(w, settings_.window.x1 + reach), std::min(h, settings_.window.y1 + reach)};
     std::vector<std::unique_ptr<FilmTile>> tiles(tileCount);
     struct ThreadCounters {
         RayStats rays;
@@ -172,6 +209,10 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
                 return;
             }
             int x0 = (t % tilesX) * kTileSize, y0 = (t / tilesX) * kTileSize;
+            if (x0 >= sampled.x1 || y0 >= sampled.y1 || x0 + kTileSize <= sampled.x0 || y0 + kTileSize <= sampled.y0) {
+                ++done;  // outside the window: nothing to sample, nothing to merge
+                return;
+            }
             auto tile = std::make_unique<FilmTile>(x0, y0, std::min(x0 + kTileSize, w), std::min(y0 + kTileSize, h),
                                                    film_.filter());
             ThreadCounters& c = counters.local();
@@ -185,6 +226,7 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
                         cut = true;
                         break;
                     }
+                    if (!sampled.contains(x, y)) continue;
                     ++tilePixels;
                     for (int s = firstSample; s < firstSample + count; ++s) {
                         sampler.start(x, y, uint32_t(s));
@@ -220,8 +262,7 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
                             std::memory_order_relaxed);
         });
     });
-    bool complete = !cut;
-    for (auto& tile : tiles) complete = complete && tile != nullptr;
+    bool complete = !cut && done.load() == tileCount;  // every tile sampled (or outside the window)
     bool cancelled = !complete && cancel && cancel->load();
     // Merged in tile order after the pass: the image does not depend on thread timing. A pass
     // cut by the deadline keeps the pixels it finished; a cancelled one is discarded.
@@ -246,29 +287,38 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
     return PassEnd::Deadline;
 }
 
+PassEnd Renderer::renderNextPass(int maxPassSamples, double deadline, const std::atomic<bool>* cancel) {
+    if (finished()) return PassEnd::Complete;
+    int count = passSamplesBefore(deadline, std::min(nextPassSamples_, std::max(1, settings_.spp) - samplesTaken_));
+    // A pass split into chunks (maxSamplesPerPass) keeps the chunks it finished: samplesTaken_
+    // moves past them, and the chunks after start where they would have.
+    PassEnd end = renderPass(samplesTaken_, count, deadline, cancel);
+    if (end == PassEnd::Complete) nextPassSamples_ = std::min(nextPassSamples_ * 2, std::max(1, maxPassSamples));
+    return end;
+}
+
 void Renderer::render(const std::atomic<bool>* cancel, double startedAt) {
     double start = startedAt > 0 ? startedAt : steadySeconds();
     double deadline = settings_.timeLimit > 0 ? start + settings_.timeLimit : 0;
     preprocess(cancel, deadline);
-    int target = std::max(1, settings_.spp);
-    // Passes grow geometrically so that the per-pass overhead is amortised; with a time limit
-    // each is also cut to what the measured rate fits before the deadline, which cuts the last.
-    int pass = 1;
-    while (samplesTaken_ < target) {
+    constexpr int kMaxPassSamples = 64;
+    while (!finished()) {
         if (cancel && cancel->load()) break;
-        int count = passSamplesBefore(deadline, std::min(pass, target - samplesTaken_));
-        if (renderPass(samplesTaken_, count, deadline, cancel) != PassEnd::Complete) break;
+        if (renderNextPass(kMaxPassSamples, deadline, cancel) != PassEnd::Complete) break;
         if (past(deadline)) break;
-        pass = std::min(pass * 2, 64);
     }
-    if (deadline > 0 && samplesTaken_ == 0 && stats_.partialPassPixels < uint64_t(settings_.width) * settings_.height &&
+    const uint64_t windowPixels = uint64_t(settings_.window.area());
+    if (deadline > 0 && samplesTaken_ == 0 && stats_.partialPassPixels < windowPixels &&
         !(cancel && cancel->load()))
         scene_.warn("time limit: " + std::to_string(settings_.timeLimit) + " s ran out before every pixel had a sample (" +
                     std::to_string(stats_.partialPassPixels) + " of " +
-                    std::to_string(uint64_t(settings_.width) * settings_.height) + " have one)");
+                    std::to_string(windowPixels) + " have one)");
     stats_.seconds = steadySeconds() - start;
     stats_.peakMemoryBytes = peakResidentMemoryBytes();
     stats_.integrator = integrator_->statistics();
+    if (stats_.nonFiniteSamples > 0)  // the film never shows them: this is their only trace
+        scene_.warn(settings_.integrator + ": " + std::to_string(stats_.nonFiniteSamples) +
+                    " non-finite samples (NaN, Inf or negative) were replaced by zero");
     if (stats_.depthCappedPaths > 0)
         scene_.warn(settings_.integrator + ": " + std::to_string(stats_.depthCappedPaths) +
                     " paths reached the safety depth cap of " + std::to_string(kDepthCap) +

@@ -7,13 +7,28 @@
 #include <memory>
 #include <string>
 
+#include "auto_select.h"
 #include "film.h"
 #include "integrator.h"
 
 namespace gi {
 
+// Pixels [x0, x1) x [y0, y1) of the image, row 0 at the top. Empty (the default): the whole image.
+struct PixelWindow {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+    bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+    long long area() const { return empty() ? 0 : (long long)(x1 - x0) * (y1 - y0); }
+};
+
 struct RenderSettings {
     int width = 512, height = 512;
+    // The pixels to render (a data window: a farm tile, a RenderProduct's dataWindowNDC); the
+    // rest of the film stays empty. Each pixel's samples depend only on its position and the
+    // seed, and the camera, the passes and preprocessing are those of the whole image, so the
+    // pixels inside equal the whole image's bit for bit (for integrators that keep no state
+    // across pixels during a pass; see gi.job). Empty: the whole image.
+    PixelWindow window;
     int spp = 16;
     std::string integrator = "path";
     ParamSet params;
@@ -75,8 +90,17 @@ public:
     // before `deadline`, from the rate measured in the passes so far (`wanted` before any; at
     // least 1): passes shrink to one sample per pixel near the deadline, which cuts one of those.
     int passSamplesBefore(double deadline, int wanted) const;
-    // Preprocess plus passes up to settings.spp, or until settings.timeLimit (measured from this
-    // call) with passes sized by passSamplesBefore and the last cut at the deadline.
+    // The next pass of a progressive render towards settings.spp: passes start at one sample
+    // per pixel and double up to `maxPassSamples` (amortising each pass's overhead while the
+    // image still refreshes); with a deadline each is cut to what passSamplesBefore fits. A
+    // cancelled pass is discarded and the next call renders the same samples again, so a
+    // render paused (cancelled) and resumed is bit-identical to an uninterrupted one. Returns
+    // Complete without rendering once settings.spp are taken.
+    PassEnd renderNextPass(int maxPassSamples, double deadline = 0, const std::atomic<bool>* cancel = nullptr);
+    bool finished() const { return samplesTaken_ >= std::max(1, settings_.spp); }
+    // Preprocess plus passes up to settings.spp (renderNextPass up to 64 samples), or until
+    // settings.timeLimit (measured from this call) with the last pass cut at the deadline. After
+    // a cancel, calling it again resumes the render where it stopped.
     // `startedAt` (steadySeconds(); 0 = now): when the budget began, for a host whose own work
     // before this call (committing the scene, building it) counts against the time limit;
     // stats().seconds is measured from it too.
@@ -87,6 +111,11 @@ public:
     // that a stop or pause request actually stopped the work.
     double lastTileTime() const { return lastTileTime_.load(std::memory_order_relaxed); }
 
+    // With integrator "auto": the pilots' choice, made in preprocess() (empty integrator before).
+    const AutoChoice& autoChoice() const { return autoChoice_; }
+    // The integrator that renders: the settings', or the one "auto" chose.
+    const std::string& integratorName() const { return settings_.integrator; }
+
     const Film& film() const { return film_; }
     const RenderStats& stats() const { return stats_; }
     int samplesTaken() const { return samplesTaken_; }
@@ -94,14 +123,21 @@ public:
     void reset();  // clears the film, keeps the preprocessed integrator
 
 private:
+    // Integrator "auto": runs the pilots in part of the time before `deadline` (or of the
+    // autoHorizon without one) and creates the integrator they choose. False if cancelled.
+    bool chooseAutomatically(const std::atomic<bool>* cancel, double deadline);
+
     const Scene& scene_;
     RenderSettings settings_;
     Camera camera_;
+    CameraDesc cameraDesc_;
     const IntegratorInfo* info_ = nullptr;
+    AutoChoice autoChoice_;
     std::unique_ptr<Integrator> integrator_;
     Film film_;
     RenderStats stats_;
     int samplesTaken_ = 0;
+    int nextPassSamples_ = 1;  // renderNextPass's schedule
     bool preprocessed_ = false;
     std::atomic<double> progress_{0};
     std::atomic<double> lastTileTime_{0};

@@ -67,6 +67,16 @@ std::vector<std::string> Scene::warnings() const {
     return warnings_;
 }
 
+size_t Scene::warningCount() const {
+    std::lock_guard<std::mutex> lock(warningsMutex_);
+    return warnings_.size();
+}
+
+void Scene::dropWarningsAfter(size_t count) const {
+    std::lock_guard<std::mutex> lock(warningsMutex_);
+    if (warnings_.size() > count) warnings_.resize(count);
+}
+
 int Scene::addMaterial(const MaterialDesc& desc) {
     materialDescs_.push_back(desc);
     return int(materialDescs_.size()) - 1;

@@ -97,6 +97,9 @@ public:
 
     void warn(const std::string& message) const;
     std::vector<std::string> warnings() const;
+    // Pilot renders (auto_select.h) drop what they warned about: the technique chosen warns again.
+    size_t warningCount() const;
+    void dropWarningsAfter(size_t count) const;
 
     struct Stats {
         size_t triangles = 0, spheres = 0, instances = 0, prototypes = 0, lights = 0, emissiveTriangles = 0;

@@ -22,4 +22,7 @@ if [ ! -x .venv/bin/python ]; then
   "$python" -m venv .venv
 fi
 .venv/bin/python -m pip install -q --upgrade pip
-.venv/bin/python -m pip install -q scikit-build-core nanobind numpy usd-core tqdm matplotlib flip-evaluator pytest
+# pyoidn ships Intel Open Image Denoise 2.x (gi render --denoise, gi study's denoised rows); optional
+# for users, installed here so that CI tests the denoiser. openjd-cli runs the farm-job tests
+# (openjd check / openjd run).
+.venv/bin/python -m pip install -q scikit-build-core nanobind numpy usd-core tqdm matplotlib flip-evaluator pytest pyoidn openjd-cli

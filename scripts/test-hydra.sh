@@ -8,8 +8,15 @@ openusd=${1:-${GI_OPENUSD_ROOT:-/opt/openusd}}
 build=build/hydra
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+# The venv's pyoidn (Open Image Denoise), if any, becomes the plugin's default place to load it from
+# for gi:denoise (renderer/oidn_library.h); this build's own Python is OpenUSD's, without pyoidn.
+oidn=()
+oidn_config=$(.venv/bin/python -c "import importlib.util as u, glob; s = u.find_spec('pyoidn'); \
+print(next(iter(glob.glob(s.submodule_search_locations[0] + '/oidn/lib/cmake/OpenImageDenoise-*')), '') if s else '')" \
+  2>/dev/null || true)
+[ -n "$oidn_config" ] && oidn=(-DOpenImageDenoise_DIR="$oidn_config")
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -Dpxr_DIR="$openusd" \
-  -DGI_BUILD_PYTHON=OFF -DGI_BUILD_TESTS=OFF "${launcher[@]}" > "$build.configure.log" || {
+  -DGI_BUILD_PYTHON=OFF -DGI_BUILD_TESTS=OFF "${launcher[@]}" "${oidn[@]}" > "$build.configure.log" || {
   cat "$build.configure.log"; exit 1; }
 grep "hdGi:" "$build.configure.log" || true
 cmake --build "$build" --target hdGi

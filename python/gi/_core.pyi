@@ -125,6 +125,8 @@ class RenderSettings:
     threads: int                   # 0 = all
     time_limit: float              # seconds for the whole call (scene commit and preprocessing included), 0 = none
     filter: str                    # pixel reconstruction filter: 'box' (default) | 'gaussian'
+    data_window: tuple[int, int, int, int]  # (x0, y0, x1, y1): render only pixels [x0, x1) x [y0, y1), equal bit
+                                   # for bit to the whole image's there; (0, 0, 0, 0) = the whole image
     def __init__(self) -> None: ...
 
 class RenderResult:
@@ -132,6 +134,9 @@ class RenderResult:
     depth: npt.NDArray[np.float32]     # (H, W) camera-space distance, inf where nothing was hit
     normal: npt.NDArray[np.float32]    # (H, W, 3) world-space shading normal
     albedo: npt.NDArray[np.float32]    # (H, W, 3)
+    prim_id: npt.NDArray[np.int32]     # (H, W) the scene's shape id nearest the pixel centre, -1 for none
+    instance_id: npt.NDArray[np.int32] # (H, W) its instance id, -1 for none
+    data_window: tuple[int, int, int, int]  # (x0, y0, x1, y1) of the pixels rendered (outside: empty)
     spp: int                           # samples per pixel of the complete passes
     stats: dict                        # seconds, preprocess_seconds, render_seconds, rays, rays_per_second,
                                        # camera_samples, samples_per_second, non_finite_samples, clamped_samples,
@@ -139,22 +144,42 @@ class RenderResult:
                                        # partial_pass_samples (the last pass the time limit cut: the pixels
                                        # that have its samples too), preprocess_scaled_down (times
                                        # preprocessing did less than asked to keep the time limit), + the
-                                       # integrator's own statistics
+                                       # integrator's own statistics; auto_pilot_seconds with "auto"
+    integrator: str                    # the integrator that rendered ("auto" resolves to one)
+    auto_summary: str                  # with "auto": the choice and each technique's predicted RMSE; else ""
 
 def presets() -> list[dict]:
     """[{'name', 'description', 'params': {integrator: {parameter: value}}}] (e.g. 'thesis')"""
+
+def auto_candidates() -> list[str]:
+    """The techniques integrator 'auto' chooses among (its pilots render them in this order)."""
 
 def integrators() -> list[dict]:
     """[{'name', 'description', 'params': [{'name', 'type' ('int'|'float'|'bool'), 'default', 'min', 'max', 'description'}]}]"""
 
 def render(scene: Scene, settings: RenderSettings,
-           progress: Optional[Callable[[float], None]] = None) -> RenderResult:
+           progress: Optional[Callable[[float], None]] = None,
+           camera: Optional[CameraDesc] = None) -> RenderResult:
     """Renders with all threads; progress(fraction_done) is called from the calling thread every
-    50 ms and once with 1.0 at the end. Releases the GIL while rendering. KeyboardInterrupt cancels.
+    50 ms and once with 1.0 at the end. camera: used instead of the scene's (a committed scene
+    renders again from another view, e.g. each frame of a camera move). Releases the GIL while rendering. KeyboardInterrupt cancels.
     Raises ValueError for an unknown integrator or resolution."""
 
-def write_exr(path: str, result: RenderResult, metadata: dict[str, str] = {}) -> None:
-    """Linear half/float EXR with R,G,B plus depth (Z; the largest finite float where nothing was hit, so the file holds no Inf), normal (N.x..), albedo (albedo.r..) layers; metadata as string attributes."""
+def write_exr(path: str, result: RenderResult, metadata: dict[str, str] = {},
+              color: Optional[npt.NDArray[np.float32]] = None,
+              layers: dict[str, npt.NDArray[np.float32]] = {}) -> None:
+    """Linear half/float EXR with R,G,B plus depth (Z; the largest finite float where nothing was hit, so the file holds no Inf), normal (N.x..), albedo (albedo.r..) layers; metadata as string attributes.
+    `color` (H, W, 3) replaces the render's colour as R,G,B (e.g. the denoised one); each of `layers`
+    (name -> (H, W, 3)) is written as name.R, name.G, name.B (e.g. noisy.R for the raw colour).
+    Only the result's data window is written (as the EXR's data window within the whole image)."""
+
+def write_channels_exr(path: str, pixels: npt.NDArray[np.float32], channels: list[str],
+                       metadata: dict[str, str] = {},
+                       data_window: Optional[tuple[int, int, int, int]] = None,
+                       half: list[bool] = []) -> None:
+    """An EXR from an (H, W, C) array and C channel names (e.g. 'N.X'). data_window (x, y, full
+    width, full height): the array is that part of a larger image. half: per channel, stored as
+    16-bit half floats (else 32-bit floats)."""
 
 def write_rgb_exr(path: str, color: npt.NDArray[np.float32], metadata: dict[str, str] = {}) -> None:
     """A plain linear R,G,B EXR from an (H, W, 3) array."""
@@ -165,7 +190,8 @@ def write_png(path: str, color: npt.NDArray[np.float32], display: str = "", view
     $OCIO, else the config shipped in gi/ocio/). Empty display/view = the config's defaults."""
 
 def read_image(path: str) -> tuple[npt.NDArray[np.float32], dict]:
-    """(H, W, C) float pixels and the file's metadata, through OpenImageIO."""
+    """(H, W, C) float pixels of the data window and the file's metadata, through OpenImageIO; the
+    metadata also has 'channels', 'channel_formats' ('half', 'float', ...), 'data_window' (x, y, W, H) and 'display_window' (full W, full H)."""
 
 def display_transform(color: npt.NDArray[np.float32], display: str = "", view: str = "",
                       exposure: float = 0.0, config: str = "") -> npt.NDArray[np.float32]:
@@ -175,6 +201,23 @@ def embree_ray_benchmark(scene: Scene, rays: int, seed: int = 0, threads: int = 
     """Embree alone: `rays` incoherent closest-hit rays in the committed scene -> {rays, hits, seconds, rays_per_second}."""
 
 def peak_memory_bytes() -> int: ...
+
+class DenoiserUnavailable(RuntimeError):
+    """No Open Image Denoise 2.x could be loaded; the message lists where it looked and what to install."""
+
+class Denoiser:
+    """Intel Open Image Denoise 2.x's "RT" filter on its CPU device, loaded at run time (renderer/denoiser.h).
+    Not thread-safe: it keeps its filters between calls of one image size."""
+    version: str        # of the loaded OIDN, e.g. "2.5.1"
+    library_path: str   # the libOpenImageDenoise file loaded
+    def __init__(self, library_folders: Sequence[str] = (), threads: int = 0) -> None:
+        """Looks in $GI_OIDN_LIBRARY (alone, when set), else `library_folders`, the copy found when the
+        renderer was built, the system loader's path. Raises DenoiserUnavailable."""
+    def denoise(self, color: npt.NDArray[np.float32], albedo: npt.NDArray[np.float32],
+                normal: npt.NDArray[np.float32], prefilter_aux: bool = True) -> npt.NDArray[np.float32]:
+        """The denoised (H, W, 3) linear colour, guided by the albedo and normal AOVs (H, W, 3);
+        prefilter_aux denoises those first and treats them as clean (OIDN's final-frame set-up).
+        Releases the GIL. Raises RuntimeError if OIDN fails or returns a non-finite value."""
 
 def read_obj(path: str) -> dict:
     """A Wavefront OBJ (and its MTL) through tinyobjloader: {meshes: one per (group, material) in file

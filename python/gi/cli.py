@@ -7,11 +7,10 @@ import datetime
 import json
 import re
 import sys
-import time
 from pathlib import Path
 
 from . import __version__
-from .errors import SceneError
+from .errors import DenoiserMissing, SceneError
 
 PARAM_TYPES = {"int": int, "float": float}
 
@@ -142,10 +141,12 @@ def render_settings(loaded, integrator, params, spp, seed, threads, time_limit, 
     return settings
 
 
-def render_loaded(loaded, settings, label, show_progress=False):
-    bar, update = progress_bar(label, show_progress)
+def render_loaded(loaded, settings, label, show_progress=False, camera=None, progress=None):
+    """Renders a loaded scene (through `camera` when given); progress(fraction) instead of a bar
+    of its own when given."""
+    bar, update = progress_bar(label, show_progress and progress is None)
     try:
-        return require_core().render(loaded.scene, settings, update)
+        return require_core().render(loaded.scene, settings, progress or update, camera)
     finally:
         bar.close()
 
@@ -161,51 +162,30 @@ def render_scene(scene_path, integrator="path", params=None, spp=16, seed=0, thr
     return result, loaded, settings
 
 
-def exr_metadata(args, params, result, loaded, wall_seconds):
+def exr_metadata(args, params, result, loaded, wall_seconds, frame=None, seed=None):
     """String attributes that make the EXR reproducible: what rendered it, how, and when."""
     return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": loaded.camera_path,
-            "gi:integrator": args.integrator, "gi:spp": str(result.spp), "gi:seed": str(args.seed),
+            "gi:integrator": result.integrator or args.integrator, "gi:auto": result.auto_summary,
+            "gi:spp": str(result.spp), "gi:seed": str(args.seed if seed is None else seed),
+            "gi:frame": "earliest time" if frame is None else str(frame),
             "gi:params": json.dumps(params, sort_keys=True), "gi:preset": args.preset or "",
             "gi:seconds": f"{result.stats.get('seconds', wall_seconds):.3f}",
             "gi:wall_seconds": f"{wall_seconds:.3f}",
+            # Samples the renderer replaced (NaN, Inf, negative): the pixels never show them.
+            "gi:non_finite_samples": str(int(result.stats["non_finite_samples"])),
             "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
 
 
-def summary(args, settings, result, wall_seconds, outputs):
+def summary(args, settings, result, wall_seconds, outputs, frame=None):
     stats = result.stats
-    return (f"{args.scene}: {settings.width}x{settings.height} {args.integrator} {result.spp} spp in "
-            f"{wall_seconds:.2f} s, {stats.get('rays_per_second', 0) / 1e6:.2f} Mrays/s, "
+    x0, y0, x1, y1 = result.data_window
+    size = f"{settings.width}x{settings.height}" + (
+        f" (data window {x1 - x0}x{y1 - y0} at {x0},{y0})" if (x1 - x0, y1 - y0) != (settings.width, settings.height) else "")
+    technique = args.integrator if result.integrator in ("", args.integrator) else \
+        f"{args.integrator} -> {result.integrator}"
+    return (f"{args.scene}{'' if frame is None else f' frame {frame}'}: {size} {technique} "
+            f"{result.spp} spp in {wall_seconds:.2f} s, {stats.get('rays_per_second', 0) / 1e6:.2f} Mrays/s, "
             f"{stats.get('samples_per_second', 0) / 1e3:.1f} ksamples/s -> {', '.join(outputs)}")
-
-
-def cmd_render(args, flags, parser):
-    from .loader import load_stage
-    _core = require_core()
-    params = flags.chosen(args, parser)
-    start = time.perf_counter()
-    loaded = load_stage(args.scene, camera=args.camera)
-    for message in loaded.warnings:
-        warn(message)
-    settings = render_settings(loaded, args.integrator, params, args.spp, args.seed, args.threads,
-                               args.time_limit, tuple(args.resolution) if args.resolution else None, args.filter)
-    settings.preset = args.preset or ""
-    label = f"{Path(args.scene).name} [{args.integrator}]"
-    result = render_loaded(loaded, settings, label, show_progress=sys.stderr.isatty())
-    wall_seconds = time.perf_counter() - start
-    for message in loaded.scene.warnings():
-        warn(message)
-
-    exr = Path(args.output) if args.output else Path("out") / f"{Path(args.scene).stem}.exr"
-    exr.parent.mkdir(parents=True, exist_ok=True)
-    _core.write_exr(str(exr), result, exr_metadata(args, params, result, loaded, wall_seconds))
-    outputs = [str(exr)]
-    if not args.no_png:
-        png = Path(args.png) if args.png else exr.with_suffix(".png")
-        png.parent.mkdir(parents=True, exist_ok=True)
-        _core.write_png(str(png), result.color, args.display, args.view, args.exposure)
-        outputs.append(str(png))
-    print(summary(args, settings, result, wall_seconds, outputs))
-    return 0
 
 
 def cmd_inspect(args):
@@ -226,7 +206,9 @@ def positive_int(text):
 def add_render_parser(commands, flags):
     render = commands.add_parser("render", help="render a USD scene to a linear EXR and a display PNG")
     render.add_argument("scene", help="a USD file (.usd, .usda, .usdc, .usdz)")
-    render.add_argument("-o", "--output", help="EXR path (default: out/<scene name>.exr)")
+    render.add_argument("-o", "--output",
+                        help="EXR path (default: every RenderProduct of the render settings, each with its "
+                             "productName and RenderVars; without any, out/<scene name>.exr)")
     render.add_argument("--integrator", default="path", choices=sorted(flags.owners) or None,
                         help="light transport technique (default: path)")
     presets = preset_catalog()
@@ -238,17 +220,36 @@ def add_render_parser(commands, flags):
     render.add_argument("--seed", type=int, default=0, help="sampler seed (default 0); renders are deterministic")
     render.add_argument("--threads", type=int, default=0, help="worker threads (default 0 = all cores)")
     render.add_argument("--time-limit", type=float, default=0.0, metavar="S",
-                        help="stop after the pass that crosses S seconds (default 0 = none)")
+                        help="end the render, preprocessing included, within S seconds (default 0 = none; "
+                             "with --integrator auto, the budget the technique is chosen for)")
     render.add_argument("--resolution", type=positive_int, nargs=2, metavar=("W", "H"),
                         help="image size (default: the stage's render settings, else 512 512)")
     render.add_argument("--camera", metavar="PRIM", help="camera prim path (default: the render settings' camera)")
+    render.add_argument("--allow-missing", action="store_true",
+                        help="render a stage whose sublayers, references or payloads cannot all be found "
+                             "(default: an error naming them)")
+    render.add_argument("--settings", metavar="PRIM",
+                        help="the RenderSettings prim whose RenderProducts are written when -o is not given "
+                             "(default: the stage's renderSettingsPrimPath, else the first)")
     render.add_argument("--filter", default="box", choices=["box", "gaussian"], help="pixel filter (default box)")
+    render.add_argument("--frames", type=frame_range, metavar="RANGE",
+                        help="render these frames (time codes) in one process: 1-48, 1-48:2, 1,5,10-20; "
+                             "frame F is rendered with seed + F; -o then names each frame with #### or $F4 "
+                             "(default: one image at the earliest time, as usdrecord renders)")
+    render.add_argument("--tile", type=tile_spec, metavar="CxR:I",
+                        help="render only tile I (0-based, row by row from the top left) of the image cut into "
+                             "C columns and R rows; its pixels equal the whole image's bit for bit "
+                             "(`gi merge-tiles` joins the tiles; used by `gi job --tiles`)")
     render.add_argument("--png", help="PNG path (default: the EXR's path with .png)")
     render.add_argument("--no-png", action="store_true", help="write only the EXR")
     render.add_argument("--display", default="", help="OCIO display for the PNG (default: the config's)")
     render.add_argument("--view", default="", help="OCIO view for the PNG (default: the config's)")
     render.add_argument("--exposure", type=float, default=0.0,
                         help="stops applied before the PNG's view transform")
+    render.add_argument("--denoise", action="store_true",
+                        help="denoise the colour with Intel Open Image Denoise 2.x, guided by the albedo and "
+                             "normal AOVs (needs `pip install pyoidn`, or $GI_OIDN_LIBRARY); the EXR keeps "
+                             "the raw colour as noisy.R/G/B, the PNG shows the denoised one")
     flags.add_to(render)
     return render
 
@@ -275,6 +276,30 @@ def add_reference_parser(commands):
     reference.add_argument("--target-error", type=float, default=0.002, metavar="E",
                            help="relative standard error of the image mean to reach (default 0.002)")
     add_common_render_options(reference)
+
+
+def frame_range(text):
+    from .frames import parse_frames
+    try:
+        return parse_frames(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def tile_spec(text):
+    from .tiles import parse_tile
+    try:
+        return parse_tile(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def tiling_spec(text):
+    from .tiles import parse_tile
+    try:
+        return parse_tile(text, with_index=False)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def comma_list(text):
@@ -305,6 +330,10 @@ def add_study_parser(commands, flags):
     runs.add_argument("--budgets", type=seconds_list, help="comma-separated seconds per run (default 1,2,4)")
     runs.add_argument("--params-file", help="JSON table of runs at fixed parameters (see gi.study)")
     study.add_argument("-o", "--output", default="study", metavar="DIR", help="output folder (default ./study)")
+    study.add_argument("--denoise", metavar="LIST",
+                       help="comma-separated integrators whose runs also get a '+ denoise' row (Open Image "
+                            "Denoise), or 'none' (default: path and photonMapFinalGather when the study has them; "
+                            "skipped with a warning without pyoidn)")
     add_common_render_options(study, "the reference's")
 
 
@@ -324,6 +353,40 @@ def add_import_parser(commands):
     imp.add_argument("--name", help="name of the root prim (default: the source's file name)")
 
 
+def add_merge_tiles_parser(commands):
+    merge = commands.add_parser(
+        "merge-tiles", help="join the tile EXRs of `gi render --tile` into whole frames",
+        description="Reads each frame's tiles (EXRs whose data windows cover the image once) and writes the whole "
+                    "image with the same channels: the pixels of `gi render` without --tile, bit for bit.")
+    merge.add_argument("tiles_pattern", metavar="TILES",
+                       help="tile EXR paths with {tile} for the tile index and #### or $F4 for the frame")
+    merge.add_argument("--tiles", type=tiling_spec, required=True, metavar="CxR", help="the tiling, e.g. 2x2")
+    merge.add_argument("--frames", type=frame_range, default=[0], metavar="RANGE",
+                       help="the frames to merge (default: 0, for paths without a frame token)")
+    merge.add_argument("-o", "--output", required=True, help="merged EXR path, with #### or $F4 for the frame")
+    merge.add_argument("--no-png", action="store_true", help="write only the EXR")
+
+
+def add_job_parser(commands):
+    job = commands.add_parser(
+        "job", help="write an Open Job Description job bundle that renders frames on a farm",
+        usage="gi job SCENE --frames RANGE -o DIR [--chunk N] [--tiles CxR] [--name NAME] [-- RENDER OPTIONS]",
+        description="Writes DIR/template.yaml and DIR/parameter_values.yaml: an OpenJD job (Deadline Cloud's job "
+                    "bundle) whose tasks run `gi render` on chunks of frames, or with --tiles on tiles of each "
+                    "frame and then `gi merge-tiles`. Options after -- go to every `gi render` (--spp, "
+                    "--integrator, --seed, --resolution, ...).",
+        epilog="example: gi job shot.usda --frames 1-240 --chunk 8 --tiles 2x2 -o job -- --spp 256")
+    job.add_argument("scene", help="a USD file")
+    job.add_argument("--frames", type=frame_range, required=True, metavar="RANGE", help="frames: 1-240, 1-48:2, ...")
+    job.add_argument("--chunk", type=positive_int, default=1, metavar="N", help="frames per task (default 1; at most 150)")
+    job.add_argument("--tiles", type=tiling_spec, metavar="CxR",
+                     help="render each frame as C x R tiles, one task each, then merge them (bit for bit the "
+                          "whole frame; each tile repeats the integrator's preprocessing)")
+    job.add_argument("-o", "--output", required=True, metavar="DIR", help="the job bundle's folder")
+    job.add_argument("--name", help="the job's name (default: gi <scene name>)")
+    job.set_defaults(render_args=[])  # what follows `--` (main() splits it off): gi render options for every task
+
+
 def build_parser():
     """(parser, its render subparser, the integrator flags)."""
     parser = argparse.ArgumentParser(prog="gi", description="hdGi: CPU global illumination for USD scenes")
@@ -336,14 +399,23 @@ def build_parser():
     add_reference_parser(commands)
     add_study_parser(commands, flags)
     add_import_parser(commands)
+    add_merge_tiles_parser(commands)
+    add_job_parser(commands)
     return parser, render, flags
 
 
 def main(argv=None):
     parser, render_parser, flags = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    passed_on = []  # `gi job ... -- RENDER OPTIONS`: options for the job's `gi render` tasks
+    if argv[:1] == ["job"] and "--" in argv:
+        argv, passed_on = argv[:argv.index("--")], argv[argv.index("--") + 1:]
     args = parser.parse_args(argv)
+    if args.command == "job":
+        args.render_args = passed_on
     try:
         if args.command == "render":
+            from .render_command import cmd_render
             return cmd_render(args, flags, render_parser)
         if args.command == "reference":
             from .reference import cmd_reference
@@ -351,11 +423,17 @@ def main(argv=None):
         if args.command == "study":
             from .study import cmd_study
             return cmd_study(args)
+        if args.command == "job":
+            from .job import cmd_job
+            return cmd_job(args, render_parser, flags)
+        if args.command == "merge-tiles":
+            from .tiles import cmd_merge_tiles
+            return cmd_merge_tiles(args)
         if args.command == "import":
             from .importer import cmd_import
             return cmd_import(args)
         return cmd_inspect(args)
-    except (SceneError, CoreMissing, ValueError) as error:  # ValueError: the renderer rejects a setting
+    except (SceneError, CoreMissing, DenoiserMissing, ValueError) as error:  # ValueError: the renderer rejects a setting
         print(f"gi: error: {error}", file=sys.stderr)
         return 2
     except (RuntimeError, OSError) as error:  # e.g. an output file that cannot be written

@@ -58,8 +58,19 @@ def pxr_error_message(error):
     return match.group(1) if match else last
 
 
-def open_stage(path):
-    """The stage at `path`; SceneError naming the file if it is missing or not USD."""
+# Composition errors that mean a layer or a prim the stage names could not be found.
+MISSING_ERRORS = ("ErrorInvalidSublayerPath", "ErrorInvalidAssetPath", "ErrorUnresolvedPrimPath")
+
+
+def missing_layers(stage):
+    """What the stage's composition could not find (sublayers, references, payloads), as messages."""
+    return [str(error).strip() for error in stage.GetCompositionErrors() if type(error).__name__ in MISSING_ERRORS]
+
+
+def open_stage(path, allow_missing=False):
+    """The stage at `path`; SceneError naming the file if it is missing or not USD, or if a sublayer,
+    reference or payload it names cannot be found (unless allow_missing: then the stage renders
+    without them, and missing_layers(stage) says what they are)."""
     path = str(path)
     if not os.path.exists(path):
         raise SceneError(f"{path}: no such file")
@@ -73,6 +84,10 @@ def open_stage(path):
         raise SceneError(f"{path}: not a readable USD file ({pxr_error_message(error)})") from None
     if stage is None:
         raise SceneError(f"{path}: not a readable USD file")
+    missing = missing_layers(stage)
+    if missing and not allow_missing:
+        raise SceneError(f"{path}: {len(missing)} layer(s) or prim(s) it names cannot be found "
+                         f"(--allow-missing renders without them): " + "; ".join(missing))
     return stage
 
 
@@ -426,22 +441,37 @@ def framing_camera(stage, time, resolution):
 
 
 def as_time_code(time):
+    """A frame number as a time code; None: the earliest time, as usdrecord renders without
+    frames (an attribute authored only as time samples has its first sample there, where at the
+    default time it would have no value)."""
     if time is None:
-        return Usd.TimeCode.Default()
+        return Usd.TimeCode.EarliestTime()
     return time if isinstance(time, Usd.TimeCode) else Usd.TimeCode(float(time))
 
 
-def load_stage(path, scene=None, camera=None, time=None) -> LoadedScene:
+def camera_at(stage, camera_path, time):
+    """The CameraDesc of the camera prim `camera_path` at `time` (a frame of a camera move)."""
+    prim = stage.GetPrimAtPath(camera_path)
+    return camera_desc(prim, UsdGeom.XformCache(as_time_code(time)).GetLocalToWorldTransform(prim),
+                       as_time_code(time))
+
+
+def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missing=False) -> LoadedScene:
     """Loads the USD file `path` into `scene` (a new gi._core.Scene if None).
 
     camera: a camera prim path overriding the render settings' camera.
-    time: a time code or frame number (default: the default time).
+    time: a time code or frame number (default: the earliest time, see as_time_code).
+    stage: the stage of `path` when it is open already (each frame of a sequence reads it).
+    allow_missing: render a stage whose sublayers, references or payloads cannot all be found (each
+    is a warning) instead of raising SceneError naming them.
     Raises SceneError naming the file when it is missing or not USD."""
     file = str(path)
-    stage = open_stage(file)
+    stage = stage if stage is not None else open_stage(file, allow_missing)
     scene = scene if scene is not None else descriptors.new_scene()
     time = as_time_code(time)
     loader = StageLoader(stage, scene, time, file)
+    for message in missing_layers(stage):
+        loader.warn("/", f"not found, rendered without it: {message}")
     loader.load()
 
     settings = render_settings(stage)

@@ -112,6 +112,7 @@ class Reference:
     pixel_relative_standard_error: float
     stopped_by: str             # 'target' | 'time'
     camera_path: str
+    non_finite_samples: int     # samples the renderer replaced (NaN, Inf, negative), all batches
 
 
 class ReferenceProgress:
@@ -169,13 +170,14 @@ def render_reference(scene_path, max_seconds=3600.0, target_error=0.002, resolut
     loaded = load_stage(scene_path, camera=camera)
     accumulator = BatchAccumulator()
     progress = ReferenceProgress(show_progress, max_seconds, target_error)
-    batch_spp, reason = FIRST_BATCH_SPP, None
+    batch_spp, reason, non_finite = FIRST_BATCH_SPP, None, 0
     try:
         for seed_k in batch_seeds(seed):
             # A batch may be cut short by the time limit; its spp is then what it took, which
             # keeps it an unbiased batch (the cut does not depend on the samples' values).
             time_limit = max(progress.time_left(), 1e-6) if max_seconds > 0 else 0.0
             result = render_batch(loaded, batch_spp, seed_k, threads, time_limit, resolution, progress)
+            non_finite += int(result.stats["non_finite_samples"])
             if result.spp > 0:
                 accumulator.add(result.color, result.spp)
                 progress.batch_done(accumulator)
@@ -187,7 +189,7 @@ def render_reference(scene_path, max_seconds=3600.0, target_error=0.002, resolut
         progress.close()
     return Reference(accumulator.image(), accumulator.samples, accumulator.batches, progress.elapsed(),
                      accumulator.relative_standard_error(), accumulator.pixel_relative_standard_error(),
-                     reason, loaded.camera_path)
+                     reason, loaded.camera_path, non_finite)
 
 
 # -- the command ---------------------------------------------------------------------------------
@@ -200,7 +202,7 @@ def reference_metadata(args, reference):
             "gi:relative_standard_error": f"{reference.relative_standard_error:.6g}",
             "gi:pixel_relative_standard_error": f"{reference.pixel_relative_standard_error:.6g}",
             "gi:target_error": f"{args.target_error:g}", "gi:max_seconds": f"{args.max_seconds:g}",
-            "gi:stopped_by": reference.stopped_by,
+            "gi:stopped_by": reference.stopped_by, "gi:non_finite_samples": str(reference.non_finite_samples),
             "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
 
 

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from . import metrics
+from .study import DENOISED_SUFFIX
 
 PLOT = "error_vs_time.png"
 PALETTE = "difference_palette.png"
@@ -152,12 +153,18 @@ def plot_error_vs_time(study, path):
     by_integrator = defaultdict(list)
     for row in runs_of(study):
         by_integrator[row["integrator"]].append(row)
+    # A technique's denoised rows share its colour, dashed.
+    colours = {}
+    for integrator in by_integrator:
+        colours.setdefault(integrator.removesuffix(DENOISED_SUFFIX), f"C{len(colours) % 10}")
     for axis, key, name in zip(axes, ("rmse_srgb8", "rmse_linear"), ("RMSE sRGB8 (0-255)", "RMSE linear")):
         for integrator, rows in by_integrator.items():
             # Log axes cannot show 0 (a run identical to the reference); leave such points out.
             points = sorted((r["seconds"], r[key]) for r in rows if r["seconds"] > 0 and r[key] > 0)
             if points:
-                axis.plot(*zip(*points), marker="o", label=integrator)
+                base = integrator.removesuffix(DENOISED_SUFFIX)
+                axis.plot(*zip(*points), marker="o", label=integrator, color=colours[base],
+                          linestyle="-" if integrator == base else "--")
         axis.set(xscale="log", yscale="log", xlabel="time (s)", ylabel=name, title=name)
         for ticks in (axis.xaxis, axis.yaxis):
             ticks.set_major_formatter(plain_log_formatter()())

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <thread>
 
+#include "arrays.h"
 #include "renderer/color.h"
 #include "renderer/image_io.h"
 #include "renderer/ray_benchmark.h"
@@ -22,6 +23,7 @@
 namespace nb = nanobind;
 using namespace nb::literals;
 using namespace gi;
+using namespace gi::bindings;
 
 namespace {
 
@@ -47,11 +49,11 @@ nb::ndarray<nb::numpy, double, nb::shape<4, 4>> fromMat4(const Mat4& m) {
     return nb::ndarray<nb::numpy, double, nb::shape<4, 4>>(data, {4, 4}, owner);
 }
 
-template <size_t N>
-nb::ndarray<nb::numpy, float> toNumpy(std::vector<float> v, std::initializer_list<size_t> shape) {
-    auto* heap = new std::vector<float>(std::move(v));
-    nb::capsule owner(heap, [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });
-    return nb::ndarray<nb::numpy, float>(heap->data(), N, shape.begin(), owner);
+nb::ndarray<nb::numpy, int32_t> toNumpyInt(std::vector<int32_t> v, size_t h, size_t w) {
+    auto* heap = new std::vector<int32_t>(std::move(v));
+    nb::capsule owner(heap, [](void* p) noexcept { delete static_cast<std::vector<int32_t>*>(p); });
+    size_t shape[2] = {h, w};
+    return nb::ndarray<nb::numpy, int32_t>(heap->data(), 2, shape, owner);
 }
 
 #define RW_COLOR(cls, pyname, field) \
@@ -223,12 +225,18 @@ struct PyRenderSettings {
     int threads = 0;
     double timeLimit = 0;
     std::string filter = "box";
+    std::tuple<int, int, int, int> dataWindow{0, 0, 0, 0};  // (x0, y0, x1, y1); empty: the whole image
 };
 
 struct RenderResult {
     nb::object color, depth, normal, albedo;
+    nb::object primId, instanceId;  // int32, -1 where nothing (no instance) was hit
+    int width = 0, height = 0;
+    PixelWindow window;  // the pixels rendered (the whole image unless a data window was set)
     int spp = 0;
     std::map<std::string, double> stats;
+    std::string integrator;  // the one that rendered: the settings', or the one "auto" chose
+    std::string autoSummary;  // "auto": its choice and every technique's predicted error
 };
 
 RenderSettings toRenderSettings(const PyRenderSettings& py) {
@@ -242,18 +250,20 @@ RenderSettings toRenderSettings(const PyRenderSettings& py) {
     settings.timeLimit = py.timeLimit;
     settings.filter = py.filter;
     settings.preset = py.preset;
+    std::tie(settings.window.x0, settings.window.y0, settings.window.x1, settings.window.y1) = py.dataWindow;
     for (auto [key, value] : py.params) settings.params.set(nb::cast<std::string>(key), nb::cast<double>(value));
     return settings;
 }
 
-RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::callable> progress) {
+RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::callable> progress,
+                    std::optional<CameraDesc> camera) {
     RenderSettings settings = toRenderSettings(py);
     double started = steadySeconds();  // the time limit counts committing the scene too
     {
         nb::gil_scoped_release release;
         scene.commit();
     }
-    Renderer renderer(scene, settings);
+    Renderer renderer(scene, settings, camera ? &*camera : nullptr);
     std::atomic<bool> cancel{false}, finished{false};
     std::exception_ptr error;
     {
@@ -290,6 +300,10 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
     r.depth = nb::cast(toNumpy<2>(film.depth(), {h, w}));
     r.normal = nb::cast(toNumpy<3>(film.normal(), {h, w, 3}));
     r.albedo = nb::cast(toNumpy<3>(film.albedo(), {h, w, 3}));
+    r.primId = nb::cast(toNumpyInt(film.shapeIds(), h, w));
+    r.instanceId = nb::cast(toNumpyInt(film.instanceIds(), h, w));
+    r.width = int(w), r.height = int(h);
+    r.window = settings.window.empty() ? PixelWindow{0, 0, int(w), int(h)} : settings.window;
     r.spp = renderer.samplesTaken();
     const RenderStats& s = renderer.stats();
     r.stats = {{"seconds", s.seconds},
@@ -308,21 +322,13 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
                {"partial_pass_samples", double(s.partialPassSamples)},
                {"preprocess_scaled_down", double(s.preprocessScaledDown)}};
     for (const auto& [k, v] : s.integrator) r.stats[k] = v;
+    r.integrator = renderer.integratorName();
+    if (!renderer.autoChoice().integrator.empty()) {
+        r.autoSummary = renderer.autoChoice().summary();
+        r.stats["auto_pilot_seconds"] = renderer.autoChoice().pilotSeconds;
+    }
     return r;
 }
-
-template <typename T>
-std::vector<float> toVector(const nb::ndarray<const float, nb::c_contig, nb::device::cpu>& a, size_t& w, size_t& h) {
-    if (a.ndim() != 3 || a.shape(2) < 3) throw std::invalid_argument("expected an (H, W, 3) float32 array");
-    h = a.shape(0), w = a.shape(1);
-    size_t c = a.shape(2);
-    std::vector<float> out(w * h * 3);
-    for (size_t p = 0; p < w * h; ++p)
-        for (size_t k = 0; k < 3; ++k) out[p * 3 + k] = a.data()[p * c + k];
-    return out;
-}
-
-using ImageArray = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
 
 // The OCIO config: the explicit one, else $OCIO, else the one installed beside this module.
 std::string ocioConfig(const std::string& explicitPath) {
@@ -344,17 +350,27 @@ void bindRendering(nb::module_& m) {
         .def_rw("seed", &PyRenderSettings::seed)
         .def_rw("threads", &PyRenderSettings::threads)
         .def_rw("time_limit", &PyRenderSettings::timeLimit)
-        .def_rw("filter", &PyRenderSettings::filter);
+        .def_rw("filter", &PyRenderSettings::filter)
+        .def_rw("data_window", &PyRenderSettings::dataWindow,
+                "(x0, y0, x1, y1): render only pixels [x0, x1) x [y0, y1); (0, 0, 0, 0): the whole image");
 
     nb::class_<RenderResult>(m, "RenderResult")
         .def_ro("color", &RenderResult::color)
         .def_ro("depth", &RenderResult::depth)
         .def_ro("normal", &RenderResult::normal)
         .def_ro("albedo", &RenderResult::albedo)
+        .def_ro("prim_id", &RenderResult::primId)
+        .def_ro("instance_id", &RenderResult::instanceId)
+        .def_prop_ro("data_window", [](const RenderResult& r) {
+            return std::make_tuple(r.window.x0, r.window.y0, r.window.x1, r.window.y1);
+        })
         .def_ro("spp", &RenderResult::spp)
-        .def_ro("stats", &RenderResult::stats);
+        .def_ro("stats", &RenderResult::stats)
+        .def_ro("integrator", &RenderResult::integrator)
+        .def_ro("auto_summary", &RenderResult::autoSummary);
 
-    m.def("render", &render, "scene"_a, "settings"_a, "progress"_a = nb::none());
+    m.def("render", &render, "scene"_a, "settings"_a, "progress"_a = nb::none(), "camera"_a = nb::none(),
+          "camera: a CameraDesc used instead of the scene's (a committed scene renders again from another view)");
 
     m.def("presets", [] {
         nb::list out;
@@ -369,6 +385,9 @@ void bindRendering(nb::module_& m) {
         }
         return out;
     });
+
+    m.def("auto_candidates", [] { return autoCandidates(); },
+          "the techniques integrator 'auto' chooses among, in the order its pilots render them");
 
     m.def("integrators", [] {
         nb::list out;
@@ -399,30 +418,89 @@ void bindRendering(nb::module_& m) {
 
     m.def(
         "write_exr",
-        [](const std::string& path, const RenderResult& r, std::map<std::string, std::string> metadata) {
+        [](const std::string& path, const RenderResult& r, std::map<std::string, std::string> metadata,
+           std::optional<ImageArray> colorOverride, std::map<std::string, ImageArray> extraLayers) {
             auto color = nb::cast<ImageArray>(r.color);
             auto depth = nb::cast<ImageArray>(r.depth);
             auto normal = nb::cast<ImageArray>(r.normal);
             auto albedo = nb::cast<ImageArray>(r.albedo);
-            int h = int(color.shape(0)), w = int(color.shape(1));
+            // Only the rendered pixels (the result's data window) go into the file, placed in the
+            // whole image as the EXR's data window.
+            const PixelWindow& win = r.window;
+            int w = win.x1 - win.x0, h = win.y1 - win.y0;
+            auto crop = [&](const float* pixels, int channels) {
+                std::vector<float> out(size_t(w) * h * channels);
+                for (int y = 0; y < h; ++y)
+                    std::copy_n(pixels + (size_t(y + win.y0) * r.width + win.x0) * channels, size_t(w) * channels,
+                                out.begin() + size_t(y) * w * channels);
+                return out;
+            };
+            std::vector<float> rgb = crop(color.data(), 3), z = crop(depth.data(), 1), n = crop(normal.data(), 3),
+                               a = crop(albedo.data(), 3);
             // The file holds no Inf: pixels that hit nothing get the largest finite depth.
-            std::vector<float> z(depth.data(), depth.data() + size_t(w) * h);
             for (float& v : z)
                 if (!std::isfinite(v)) v = std::numeric_limits<float>::max();
-            std::vector<ImageLayer> layers{{"", {"R", "G", "B"}, color.data()},
+            std::vector<ImageLayer> layers{{"", {"R", "G", "B"}, rgb.data()},
                                            {"", {"Z"}, z.data()},
-                                           {"N", {"X", "Y", "Z"}, normal.data()},
-                                           {"albedo", {"R", "G", "B"}, albedo.data()}};
+                                           {"N", {"X", "Y", "Z"}, n.data()},
+                                           {"albedo", {"R", "G", "B"}, a.data()}};
+            DataWindow window;
+            if (w != r.width || h != r.height) window = DataWindow{win.x0, win.y0, r.width, r.height};
+            std::vector<std::vector<float>> extraPixels;  // owns the extra layers' RGB while writing
+            extraPixels.reserve(extraLayers.size() + 1);
+            auto rgbOf = [&](const ImageArray& image, const std::string& what) {
+                size_t iw, ih;
+                std::vector<float> whole = toVector(image, iw, ih);
+                if (int(iw) != r.width || int(ih) != r.height)
+                    throw std::invalid_argument(what + " is " + std::to_string(iw) + "x" + std::to_string(ih) +
+                                                ", the render " + std::to_string(r.width) + "x" +
+                                                std::to_string(r.height));
+                extraPixels.push_back(crop(whole.data(), 3));
+                return extraPixels.back().data();
+            };
+            if (colorOverride) layers[0].pixels = rgbOf(*colorOverride, "color");
+            for (const auto& [name, image] : extraLayers) layers.push_back({name, {"R", "G", "B"}, rgbOf(image, name)});
             nb::gil_scoped_release release;
-            writeExr(path, w, h, layers, metadata);
+            writeExr(path, w, h, layers, metadata, window);
         },
-        "path"_a, "result"_a, "metadata"_a = std::map<std::string, std::string>());
+        "path"_a, "result"_a, "metadata"_a = std::map<std::string, std::string>(), "color"_a = nb::none(),
+        "layers"_a = std::map<std::string, ImageArray>(),
+        "The render's colour (or `color` instead), depth, normal and albedo, plus each of `layers` "
+        "(name -> (H, W, 3) array) as name.R/G/B.");
+
+    m.def(
+        "write_channels_exr",
+        [](const std::string& path, ImageArray pixels, std::vector<std::string> channels,
+           std::map<std::string, std::string> metadata, std::optional<std::tuple<int, int, int, int>> dataWindow,
+           std::vector<bool> half) {
+            if (pixels.ndim() != 3 || pixels.shape(2) != channels.size())
+                throw std::invalid_argument("expected an (H, W, " + std::to_string(channels.size()) +
+                                            ") float32 array, one plane per channel name");
+            if (!half.empty() && half.size() != channels.size())
+                throw std::invalid_argument("half: one flag per channel");
+            int h = int(pixels.shape(0)), w = int(pixels.shape(1));
+            DataWindow window;
+            if (dataWindow) std::tie(window.x, window.y, window.fullWidth, window.fullHeight) = *dataWindow;
+            // One layer per channel, so each keeps its own storage type.
+            std::vector<std::vector<float>> planes(channels.size(), std::vector<float>(size_t(w) * h));
+            std::vector<ImageLayer> layers;
+            for (size_t c = 0; c < channels.size(); ++c) {
+                for (size_t p = 0; p < size_t(w) * h; ++p) planes[c][p] = pixels.data()[p * channels.size() + c];
+                layers.push_back({"", {channels[c]}, planes[c].data(), !half.empty() && half[c]});
+            }
+            nb::gil_scoped_release release;
+            writeExr(path, w, h, layers, metadata, window);
+        },
+        "path"_a, "pixels"_a, "channels"_a, "metadata"_a = std::map<std::string, std::string>(),
+        "data_window"_a = nb::none(), "half"_a = std::vector<bool>(),
+        "Writes an (H, W, C) float32 array as an EXR with the given channel names (e.g. 'N.X'); data_window "
+        "(x, y, full width, full height) places it in a larger image; half: per channel, 16-bit storage.");
 
     m.def(
         "write_rgb_exr",
         [](const std::string& path, ImageArray color, std::map<std::string, std::string> metadata) {
             size_t w, h;
-            std::vector<float> rgb = toVector<float>(color, w, h);
+            std::vector<float> rgb = toVector(color, w, h);
             writeExr(path, int(w), int(h), {{"", {"R", "G", "B"}, rgb.data()}}, metadata);
         },
         "path"_a, "color"_a, "metadata"_a = std::map<std::string, std::string>());
@@ -432,7 +510,7 @@ void bindRendering(nb::module_& m) {
         [](ImageArray color, const std::string& display, const std::string& view, float exposure,
            const std::string& config) {
             size_t w, h;
-            std::vector<float> rgb = toVector<float>(color, w, h);
+            std::vector<float> rgb = toVector(color, w, h);
             std::string path = ocioConfig(config);
             return toNumpy<3>(applyDisplayTransform(rgb, int(w), int(h), path, display, view, exposure), {h, w, 3});
         },
@@ -443,7 +521,7 @@ void bindRendering(nb::module_& m) {
         [](const std::string& path, ImageArray color, const std::string& display, const std::string& view,
            float exposure, const std::string& config) {
             size_t w, h;
-            std::vector<float> rgb = toVector<float>(color, w, h);
+            std::vector<float> rgb = toVector(color, w, h);
             std::string cfg = ocioConfig(config);
             writePng8(path, int(w), int(h), applyDisplayTransform(rgb, int(w), int(h), cfg, display, view, exposure));
         },
@@ -459,6 +537,10 @@ void bindRendering(nb::module_& m) {
         nb::dict meta;
         for (const auto& [k, v] : img.metadata) meta[k.c_str()] = v;
         meta["channels"] = img.channelNames;
+        meta["channel_formats"] = img.channelFormats;
+        // (x, y, width, height) of the pixels read within the (full width, full height) image.
+        meta["data_window"] = nb::make_tuple(img.window.x, img.window.y, img.width, img.height);
+        meta["display_window"] = nb::make_tuple(img.window.fullWidth, img.window.fullHeight);
         return nb::make_tuple(array, meta);
     });
 
@@ -498,7 +580,8 @@ void bindRendering(nb::module_& m) {
 
 }  // namespace
 
-void bindImport(nb::module_& m);  // import_bindings.cpp: read_obj, read_gltf
+void bindImport(nb::module_& m);    // import_bindings.cpp: read_obj, read_gltf
+void bindDenoiser(nb::module_& m);  // denoise_bindings.cpp: Denoiser, DenoiserUnavailable
 
 NB_MODULE(_core, m) {
     m.doc() = "hdGi's CPU global-illumination renderer";
@@ -506,4 +589,5 @@ NB_MODULE(_core, m) {
     bindScene(m);
     bindRendering(m);
     bindImport(m);
+    bindDenoiser(m);
 }

@@ -68,12 +68,8 @@ IrradianceRecord IrradianceRecordSampler::sample(const Scene& scene, const Recor
                                                  uint32_t streamKey, RayStats& stats) const {
     const int M = layout_.polar, N = layout_.azimuthal, cells = M * N;
     Frame frame(site.n);
-    // The rays leave from a hair towards the viewer: a site exactly on a crease or a mesh
-    // edge (a floor's edge under a wall) lies on the other surface's plane too, where the
-    // ray offset along its own normal would let half the hemisphere slip under that surface.
-    // Whatever the viewer sees the site from is open space next to every surface there.
     SurfaceInteraction origin;
-    origin.p = site.p + site.wo * (1e-3f * site.footprint + 16 * pointErrorBound(site.p));
+    origin.p = recordRayOrigin(site);
     origin.ng = site.ng;
     std::vector<Color> L(cells, Color(0.0f));
     std::vector<float> R(cells, kInf);

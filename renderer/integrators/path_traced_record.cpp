@@ -46,10 +46,8 @@ IrradianceRecord PathTracedRecordSampler::sample(const Scene& scene, const Recor
                                                  uint32_t streamKey, RayStats& stats) const {
     const int M = layout_.polar, N = layout_.azimuthal;
     Frame frame(site.n);
-    // Leaving from a hair towards the viewer, as the cache's sampler does: a site on a crease
-    // lies on the other surface's plane too.
     SurfaceInteraction origin;
-    origin.p = site.p + site.wo * (1e-3f * site.footprint + 16 * pointErrorBound(site.p));
+    origin.p = recordRayOrigin(site);
     origin.ng = site.ng;
     const float rMinus = std::max(settings_.minSpacing * site.footprint, 1e-6f * (1 + length(site.p)));
     const float rPlus = std::max(settings_.maxSpacing, settings_.minSpacing) * site.footprint;

@@ -3,6 +3,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "../integrator.h"
 #include "photon_tracer.h"
 
 namespace gi {
@@ -32,7 +33,7 @@ std::string describe(const Scene& scene, const std::vector<int>& lights, const P
 }  // namespace
 
 PhotonEmitters choosePhotonEmitters(const Scene& scene, const SeenSurfaces& seen, uint32_t pilotPhotons,
-                                    int maxBounces, uint32_t seed) {
+                                    int maxBounces, uint32_t seed, double deadline) {
     PhotonEmitters result;
     const size_t lights = scene.lights().size();
     if (lights == 0) return result;
@@ -55,6 +56,8 @@ PhotonEmitters choosePhotonEmitters(const Scene& scene, const SeenSurfaces& seen
     PhotonTraceSettings settings;
     settings.maxBounces = maxBounces;
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, pilotPhotons, 1024), [&](const tbb::blocked_range<uint32_t>& r) {
+        if (deadline > 0 && r.begin() >= PhotonEmitters::kMinDeadlinePilotPhotons && steadySeconds() >= deadline)
+            return;
         PilotCounts& counts = perThread.local();
         RayStats stats;
         for (uint32_t i = r.begin(); i < r.end(); ++i) {
@@ -88,7 +91,8 @@ PhotonEmitters choosePhotonEmitters(const Scene& scene, const SeenSurfaces& seen
         weights[i] = power[i];
         result.emitting++;
     }
-    result.pilotPhotons = pilotPhotons;
+    result.pilotPhotons = 0;
+    for (size_t i = 0; i < lights; ++i) result.pilotPhotons += total.emitted[i];
     if (!result.skipped.empty())
         scene.warn("photon mapping: " + std::to_string(result.skipped.size()) +
                    " light(s) emit no photons, none of their pilot photons landed where the camera or a "

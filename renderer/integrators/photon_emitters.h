@@ -19,15 +19,18 @@ struct PhotonEmitters {
     Distribution1D distribution;  // over scene.lights(); empty when no light emits photons
     std::vector<int> skipped;     // lights left out
     int emitting = 0;             // lights with a share of the photons
-    uint32_t pilotPhotons = 0;
+    uint32_t pilotPhotons = 0;  // traced (fewer than asked when a deadline stopped the pilot)
+    static constexpr uint32_t kMinDeadlinePilotPhotons = 4096;
     bool empty() const { return emitting == 0; }
 
     static constexpr uint32_t kMinPilotPhotons = 64;
 };
 
 // Runs the pilot (pilotPhotons photons of up to maxBounces bounces, on all threads) and
-// warns on the scene about every light it leaves out, and why.
+// warns on the scene about every light it leaves out, and why. With a `deadline`
+// (steadySeconds(); 0 = none) it stops starting photons once it passes, after the first
+// kMinDeadlinePilotPhotons: a time-limited render's pilot must not outlast its preprocessing.
 PhotonEmitters choosePhotonEmitters(const Scene& scene, const SeenSurfaces& seen, uint32_t pilotPhotons,
-                                    int maxBounces, uint32_t seed);
+                                    int maxBounces, uint32_t seed, double deadline = 0);
 
 }  // namespace gi

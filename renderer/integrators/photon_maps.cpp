@@ -98,7 +98,9 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
             uint32_t pilot = std::clamp<uint32_t>(std::max(globalCount, causticCount) / 8, 4096, 65536);
             SeenSurfaces seen = SeenSurfaces::trace(scene, context.camera, context.width, context.height,
                                                     settings.rayDepth, context.seed);
-            emitters = choosePhotonEmitters(scene, seen, pilot, settings.photonDepth, context.seed);
+            // With a time limit, the pilot may take half the preprocessing share.
+            double pilotDeadline = context.deadline > 0 ? steadySeconds() + 0.5 * context.secondsLeft() : 0;
+            emitters = choosePhotonEmitters(scene, seen, pilot, settings.photonDepth, context.seed, pilotDeadline);
             stats["pilotSeconds"] = secondsSince(traceStart);
             stats["pilotPhotons"] = emitters.pilotPhotons;
             stats["photonLightsSkipped"] = double(emitters.skipped.size());

@@ -38,7 +38,8 @@ void ProgressivePhotonMapIntegrator::preprocess(const PreprocessContext& context
     SeenSurfaces seen = SeenSurfaces::trace(scene, context.camera, context.width, context.height, settings_.rayDepth,
                                             context.seed);
     uint32_t pilot = std::clamp<uint32_t>(uint32_t(std::min(settings_.photonsPerPass, 1e9)) / 8, 4096, 65536);
-    emitters_ = choosePhotonEmitters(scene, seen, pilot, settings_.photonDepth, context.seed);
+    emitters_ = choosePhotonEmitters(scene, seen, pilot, settings_.photonDepth, context.seed,
+                                     context.deadline > 0 ? steadySeconds() + 0.5 * context.secondsLeft() : 0);
 }
 
 void ProgressivePhotonMapIntegrator::beginPass(const PreprocessContext& context, int firstSample, int count) {

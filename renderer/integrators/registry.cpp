@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "../auto_select.h"
 #include "adaptive_irradiance_cache.h"
 #include "direct.h"
 #include "irradiance_cache_integrator.h"
@@ -178,6 +179,18 @@ std::vector<IntegratorInfo> buildRegistry() {
         return std::make_unique<ProgressivePhotonMapIntegrator>(s);
     };
     list.push_back(progressive);
+    // Not an integrator of its own: the renderer's pilot renders choose one (auto_select.h).
+    IntegratorInfo automatic{
+        kAutoIntegrator,
+        "automatic choice: short pilot renders predict every technique's error at the time limit, the best renders",
+        {ParamInfo{"autoPilotShare", "float", 0.1, 0.01, 0.5, "share of the time limit spent on pilot renders"},
+         ParamInfo{"autoHorizon", "float", 60, 0.1, 1e7,
+                   "seconds the choice is made for when the render has no time limit"}},
+        nullptr};
+    automatic.create = [](const ParamSet&) -> std::unique_ptr<Integrator> {
+        throw std::logic_error("'auto' is resolved by the renderer's pilot renders, not created");
+    };
+    list.push_back(automatic);
     for (IntegratorInfo& info : list) info.params.push_back(kSampleClamp);
     return list;
 }

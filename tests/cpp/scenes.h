@@ -1,6 +1,7 @@
 // Small analytic scenes built in code for the C++ tests.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "renderer/render.h"
@@ -58,6 +59,52 @@ inline void addIcosphere(Scene& s, float radius, int subdivisions, int material)
     }
     for (Vec3& p : v) p = normalize(p) * radius;
     s.addMesh("/Furnace", std::move(v), std::move(f), {}, {}, material, nullptr, true, -1);
+}
+
+// A white-furnace scene: a closed icosphere of uniform albedo and emission, the camera at its
+// centre. Inside, radiance is Le / (1 - albedo) everywhere (per channel).
+inline void buildFurnace(Scene& s, Color albedo, Color Le) {
+    addIcosphere(s, 1.0f, 3, s.addMaterial(lambert(albedo, Le)));
+    CameraDesc cam;
+    cam.clipNear = 1e-3f;
+    s.setCamera(cam);
+}
+
+// Irradiance at the origin (normal n) from a one-sided polygon of radiance L: Lambert's formula
+// E = L/2 * sum_i angle(r_i, r_i+1) * dot(n, normalize(r_i x r_i+1)).
+inline double polygonIrradiance(const std::vector<Vec3>& corners, Vec3 n, double L) {
+    double sum = 0;
+    for (size_t i = 0; i < corners.size(); ++i) {
+        Vec3 a = normalize(corners[i]), b = normalize(corners[(i + 1) % corners.size()]);
+        double angle = std::acos(std::clamp(double(dot(a, b)), -1.0, 1.0));
+        sum += angle * dot(n, normalize(cross(a, b)));
+    }
+    return L / 2 * std::fabs(sum);
+}
+
+inline CameraDesc lookingDown(Vec3 position, bool orthographic, float apertureTenths);
+
+// A Lambertian floor (y = 0) under a one-sided 1 x 0.6 rect light of radiance L centred at
+// (0.3, 1, 0.2) and emitting down, seen through a 1 mm orthographic window at the origin.
+// Returns the radiance the floor reflects there, albedo / pi * E (Lambert's polygon formula).
+inline double buildFloorUnderRectLight(Scene& scene, float albedo, float L) {
+    int m = scene.addMaterial(lambert(Color(albedo)));
+    addQuad(scene, "/Floor", {-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, m);
+    LightDesc rect;
+    rect.name = "/Rect";
+    rect.kind = "rect";
+    rect.width = 1.0f;
+    rect.height = 0.6f;
+    rect.intensity = L;
+    // Rotated -90 degrees about X: its local -Z (the emitting side) is world -Y.
+    rect.transform.m[1][1] = 0, rect.transform.m[1][2] = -1;
+    rect.transform.m[2][1] = 1, rect.transform.m[2][2] = 0;
+    rect.transform.m[3][0] = 0.3f, rect.transform.m[3][1] = 1, rect.transform.m[3][2] = 0.2f;
+    scene.addLight(rect);
+    scene.setCamera(lookingDown({0, 0.5f, 0}, true, 0.01f));
+    // Corners in world space: x in 0.3 +- 0.5, z in 0.2 +- 0.3, y = 1.
+    std::vector<Vec3> corners = {{-0.2f, 1, -0.1f}, {0.8f, 1, -0.1f}, {0.8f, 1, 0.5f}, {-0.2f, 1, 0.5f}};
+    return albedo / kPi * polygonIrradiance(corners, Vec3(0, 1, 0), L);
 }
 
 inline CameraDesc lookingDown(Vec3 position, bool orthographic, float apertureTenths) {

@@ -1,9 +1,10 @@
 // What a host (the Hydra delegate) relies on: a camera given as a projection matrix renders the
 // same rays as the UsdGeomCamera it came from, the film reports which shape and instance each
-// pixel sees, and a cancelled pass leaves the film untouched.
+// pixel sees, a cancelled pass leaves the film untouched, and a paused render resumes exactly.
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <thread>
 
 #include "renderer/camera.h"
 #include "renderer/render.h"
@@ -40,6 +41,16 @@ int litFloor(Scene& scene, int material) {
 // The lit floor alone, in grey, committed.
 void commitLitFloor(Scene& scene) {
     litFloor(scene, scene.addMaterial(lambert(Color(0.5f))));
+    scene.commit();
+}
+
+// A grey floor under a small sphere light, committed: its samples differ, so a pixel's
+// second sample changes its mean.
+void commitFloorUnderSphereLight(Scene& scene) {
+    int white = scene.addMaterial(lambert(Color(0.5f)));
+    addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, white);
+    scene.addLight(sphereLight("/Light", {0, 2, 0}, 0.5f, 10));
+    scene.setCamera(lookingDown({0, 5, 0}, true, 40));
     scene.commit();
 }
 
@@ -116,12 +127,7 @@ TEST(Host, CancelledPassLeavesTheFilmAsItWas) {
 // the pass's samples, each one exactly as a render with that many samples would have it.
 TEST(Host, DeadlineCutPassKeepsFinishedPixelsUnbiased) {
     Scene scene;
-    int white = scene.addMaterial(lambert(Color(0.5f)));
-    addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, white);
-    // A small sphere light: its samples differ, so a pixel's second sample changes its mean.
-    scene.addLight(sphereLight("/Light", {0, 2, 0}, 0.5f, 10));
-    scene.setCamera(lookingDown({0, 5, 0}, true, 40));
-    scene.commit();
+    commitFloorUnderSphereLight(scene);
     const int size = 128;
     Renderer two(scene, smallImage(size, 2));
     ASSERT_TRUE(two.renderPass(0, 2));
@@ -157,6 +163,67 @@ TEST(Host, DeadlineCutPassKeepsFinishedPixelsUnbiased) {
         break;
     }
     EXPECT_TRUE(partial) << "no deadline cut the pass part way";
+}
+
+// README: a render paused part way through a pass and resumed gives the same image as an
+// uninterrupted one. The pause cancels the pass in flight after some of its tiles finished;
+// the host then asks for the next pass again (hdGi's render thread, renderNextPass). Bit for bit:
+// the same seed, pixels and sample indices give the same samples, summed in the same passes.
+TEST(Host, ResumedRenderIsBitIdenticalToAnUninterruptedOne) {
+    Scene scene;
+    commitFloorUnderSphereLight(scene);  // every sample differs: a lost, repeated or shifted one shows
+    const int size = 128, maxPassSamples = 8;  // hdGi's passes: 1, 2, 4, 8, 8 ... samples
+    RenderSettings settings = smallImage(size, 23);  // 1 + 2 + 4 + 8 + 8: the last pass is cut to 8
+    Renderer uninterrupted(scene, settings);
+    while (!uninterrupted.finished()) ASSERT_EQ(uninterrupted.renderNextPass(maxPassSamples), PassEnd::Complete);
+    const std::vector<float> expected = uninterrupted.film().color();
+
+    // Every pass is paused once, a quarter of its tiles in (as progress() reports them); the
+    // watcher spins, so a pass that ends before it sees the quarter just completes.
+    Renderer resumed(scene, settings);
+    int passes = 0, cutPartWay = 0;
+    while (!resumed.finished()) {
+        const double target = settings.spp, first = resumed.samplesTaken();
+        const double count = std::min<double>(1 << std::min(passes, 3), target - first);
+        std::atomic<bool> cancel{false}, passOver{false};
+        std::thread pauser([&] {
+            while (!passOver.load() && resumed.progress() < (first + 0.25 * count) / target) std::this_thread::yield();
+            cancel = true;
+        });
+        std::vector<float> before = resumed.film().color();
+        PassEnd end = resumed.renderNextPass(maxPassSamples, 0, &cancel);
+        passOver = true;
+        pauser.join();
+        if (end == PassEnd::Cancelled) {
+            double reached = resumed.progress();
+            cutPartWay += reached > first / target && reached < (first + count) / target;
+            EXPECT_EQ(resumed.samplesTaken(), int(first));
+            EXPECT_EQ(resumed.film().color(), before) << "a cancelled pass must leave the film as it was";
+            ASSERT_EQ(resumed.renderNextPass(maxPassSamples), PassEnd::Complete);  // resumed
+        }
+        ++passes;
+    }
+    EXPECT_GE(cutPartWay, 3) << "too few passes were paused part way to test anything";
+    EXPECT_EQ(resumed.samplesTaken(), uninterrupted.samplesTaken());
+    const std::vector<float> got = resumed.film().color();
+    size_t differing = 0;
+    for (size_t i = 0; i < got.size(); ++i) differing += got[i] != expected[i];
+    EXPECT_EQ(differing, 0u) << "of " << got.size() << " values";
+
+    // The same through Renderer::render (its own pass sizes): cancelled mid-pass, then again.
+    Renderer whole(scene, settings);
+    whole.render();
+    Renderer viaRender(scene, settings);
+    std::atomic<bool> cancel{false};
+    std::thread pauser([&] {
+        while (viaRender.progress() < 0.5) std::this_thread::yield();
+        cancel = true;
+    });
+    viaRender.render(&cancel);
+    pauser.join();
+    EXPECT_LT(viaRender.samplesTaken(), settings.spp);
+    viaRender.render();
+    EXPECT_EQ(viaRender.film().color(), whole.film().color());
 }
 
 TEST(Host, DeadlinePassedRendersNothingAndCancelStillDiscards) {

@@ -148,7 +148,8 @@ def mutate(text, rng):
 
 INTEGRATORS = [info["name"] for info in _core.integrators()]
 TAKES = {info["name"]: {p["name"] for p in info["params"]} for info in _core.integrators()}
-FAST = {"photons": 400, "causticPhotons": 400, "paths": 8, "finalGatherSamples": 2, "refinementRounds": 10}
+FAST = {"photons": 400, "causticPhotons": 400, "paths": 8, "finalGatherSamples": 2, "refinementRounds": 10,
+        "autoHorizon": 0.5}
 
 
 def try_scene(path, integrator):

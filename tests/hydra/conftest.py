@@ -16,11 +16,14 @@ if not available():
 
 
 def hdgi_errors(text):
-    """Python tracebacks, and coding/runtime errors raised by hdGi (other OpenUSD components'
-    own diagnostics, e.g. hgiGL's at window teardown, are not hdGi's)."""
+    """Python tracebacks, coding/runtime errors raised by hdGi (other OpenUSD components'
+    own diagnostics, e.g. hgiGL's at window teardown, are not hdGi's), and hdGi's warning that
+    the renderer replaced non-finite samples (renderSession.cpp): the film zeroes them, so an
+    image's finite pixels alone do not show that none occurred."""
     return [line for line in text.splitlines()
             if "Traceback" in line
-            or (("Coding Error" in line or "Runtime Error" in line) and ("hdGi" in line or "/hdGi/" in line))]
+            or (("Coding Error" in line or "Runtime Error" in line) and ("hdGi" in line or "/hdGi/" in line))
+            or ("hdGi" in line and "non-finite samples" in line)]
 
 
 def read_rgb(path):

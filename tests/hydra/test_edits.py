@@ -75,3 +75,4 @@ over "World"
     assert before["textures"] == 1 and before["texturesRead"] == 1, before
     assert after["textures"] == 1 and after["texturesRead"] == 0, after
     assert after["sceneBuildSeconds"] > 0, after  # the edit did rebuild the scene
+    assert before["nonFiniteSamples"] == 0 and after["nonFiniteSamples"] == 0, (before, after)

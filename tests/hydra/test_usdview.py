@@ -61,6 +61,8 @@ def test_settings_changes_restart_and_change_the_image(session):
     # 2 samples are noisier than 16 (against the same 16-sample image rendered again).
     assert np.abs(noisy - again).mean() > np.abs(path - again).mean()
     assert results["spp2_stats"]["samples"] == 2
+    for name in ("first_stats", "direct_stats", "spp2_stats"):
+        assert results[name]["nonFiniteSamples"] == 0, (name, results[name])
 
 
 def test_picking_the_sphere_selects_it(session):

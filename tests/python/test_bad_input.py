@@ -69,3 +69,40 @@ def test_missing_texture_names_material_and_file(tmp_path):
 def test_unknown_integrator_is_a_usage_error(cornell, tmp_path):
     proc = run_gi("render", cornell, "--integrator", "magic", check=False)
     assert proc.returncode == 2 and "invalid choice: 'magic'" in proc.stderr
+
+
+def _stage_with_missing_layers(tmp_path):
+    """A lit plane, plus a sublayer, a reference and a payload that do not exist."""
+    stage, path = _stage(tmp_path)
+    stage.GetRootLayer().subLayerPaths.append("./missing_sublayer.usda")
+    plane = UsdGeom.Mesh.Define(stage, "/Plane")
+    plane.CreatePointsAttr([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)])
+    plane.CreateFaceVertexCountsAttr([4])
+    plane.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    stage.DefinePrim("/Props").GetReferences().AddReference("./missing_reference.usda")
+    stage.DefinePrim("/Set").GetPayloads().AddPayload("./missing_payload.usda")
+    from pxr import UsdLux
+    UsdLux.DomeLight.Define(stage, "/Sky")
+    stage.Save()
+    return path
+
+
+def test_missing_sublayers_references_and_payloads_are_an_error_naming_them(tmp_path):
+    path = _stage_with_missing_layers(tmp_path)
+    proc = _render(path, tmp_path)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "3 layer(s) or prim(s) it names cannot be found" in proc.stderr, proc.stderr
+    for name in ("missing_sublayer.usda", "missing_reference.usda", "missing_payload.usda"):
+        assert name in proc.stderr
+    assert "--allow-missing" in proc.stderr
+    assert not (tmp_path / "o.exr").exists()
+
+
+def test_allow_missing_renders_and_warns_for_each(tmp_path):
+    path = _stage_with_missing_layers(tmp_path)
+    proc = run_gi("render", path, "--spp", 1, "--resolution", 8, 8, "-o", tmp_path / "o.exr", "--no-png",
+                  "--allow-missing")
+    assert proc.returncode == 0, proc.stderr
+    warnings = [line for line in proc.stderr.splitlines() if "not found, rendered without it" in line]
+    assert len(warnings) == 3 and all(str(path) in line for line in warnings), proc.stderr
+    assert (tmp_path / "o.exr").exists()

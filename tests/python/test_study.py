@@ -47,6 +47,21 @@ def run_rows(tiny_study):
     return [row for row in tiny_study["rows"] if row["label"] != "reference"]
 
 
+def rendered_rows(tiny_study):
+    """The runs as rendered (the denoised rows left out)."""
+    return [row for row in run_rows(tiny_study) if not row["integrator"].endswith(" + denoise")]
+
+
+def oidn_installed():
+    from gi.denoise import open_denoiser
+    from gi.errors import DenoiserMissing
+    try:
+        open_denoiser()
+        return True
+    except DenoiserMissing:
+        return False
+
+
 # -- the study's outputs -------------------------------------------------------------------------
 
 def test_study_writes_every_output(tiny_study):
@@ -55,8 +70,10 @@ def test_study_writes_every_output(tiny_study):
     assert set(RUN_COLUMNS) <= set(rows[0])
     assert [row["label"] for row in rows][0] == "reference"
     runs = run_rows(tiny_study)
+    # Every integrator at every budget, and the path tracer's runs denoised (study.DEFAULT_DENOISED).
+    techniques = study_integrators() + (["path + denoise"] if oidn_installed() else [])
     assert sorted((row["integrator"], float(row["budget_seconds"])) for row in runs) == \
-        sorted((name, b) for name in study_integrators() for b in BUDGETS)
+        sorted((name, b) for name in techniques for b in BUDGETS)
     for name in ("error_vs_time.png", "reference.png", "difference_palette.png", "report.md", "report.html"):
         assert (out / name).stat().st_size > 0, name
     from matplotlib import image as mpimg
@@ -99,7 +116,9 @@ def test_study_numbers_are_sane(tiny_study):
         seconds = float(row["seconds"])
         # The renderer stops after the pass that crosses the budget, so never before it.
         assert seconds >= budget, row
-        assert float(row["preprocess_seconds"]) + float(row["render_seconds"]) == pytest.approx(seconds, abs=0.05)
+        denoise_seconds = float(row["denoise_seconds"] or 0)
+        assert float(row["preprocess_seconds"]) + float(row["render_seconds"]) + denoise_seconds == \
+            pytest.approx(seconds, abs=0.05)
         assert 0 < float(row["rmse_srgb8"]) < 255 and math.isfinite(float(row["rmse_linear"]))
         assert 0 <= float(row["flip"]) <= 1 and float(row["peak_memory_mb"]) > 10
         assert int(row["non_finite_samples"]) == 0
@@ -154,6 +173,7 @@ def test_reference_writes_spp_time_and_error_estimate(cornell, tmp_path):
     proc = run_gi("reference", cornell, "-o", out, "--resolution", 16, 16, "--max-seconds", 0.3)
     pixels, meta = read_meta(out)
     assert pixels.shape == (16, 16, 3) and np.isfinite(pixels).all() and pixels.mean() > 0.01
+    assert meta["gi:non_finite_samples"] == "0"  # the film zeroes bad samples: finite pixels alone prove nothing
     assert meta["gi:integrator"] == "path" and int(meta["gi:spp"]) > 0 and int(meta["gi:batches"]) >= 2
     error, seconds = float(meta["gi:relative_standard_error"]), float(meta["gi:seconds"])
     assert 0 < error < 1 and math.isfinite(float(meta["gi:pixel_relative_standard_error"]))
@@ -219,7 +239,7 @@ def test_fireflies_are_counted_against_the_reference(tiny_study):
 def test_equal_time_runs_keep_their_budget_and_the_report_says_so(tiny_study):
     """Each run's seconds lie within 5% + 0.2 s of its budget (issue 16's bound), and the
     equal-time tables show budget, measured and wall seconds, and the machine."""
-    for row in run_rows(tiny_study):
+    for row in rendered_rows(tiny_study):  # a denoised row adds its denoising time (test below)
         budget = float(row["budget_seconds"])
         assert abs(float(row["seconds"]) - budget) <= 0.05 * budget + 0.2, row
     text = (tiny_study["out"] / "report.md").read_text()
@@ -227,3 +247,46 @@ def test_equal_time_runs_keep_their_budget_and_the_report_says_so(tiny_study):
     for budget in BUDGETS:
         assert f"### Equal time: {budget:g} s (measured " in text
     assert "Measured on " in text and "render threads" in text and "one run of each technique" in text
+
+
+# -- denoised rows -------------------------------------------------------------------------------
+
+def test_denoised_rows_are_the_same_renders_denoised(tiny_study):
+    """Each path run has a '+ denoise' row: the same render (spp, raw colour kept in its EXR), its time
+    the render's plus the denoising's, and a lower FLIP (the reason path is in study.DEFAULT_DENOISED)."""
+    if not oidn_installed():
+        pytest.skip("Open Image Denoise is not installed")
+    from gi.study import slug
+    rows = {row["label"]: row for row in run_rows(tiny_study)}
+    for budget in BUDGETS:
+        raw, denoised = rows[f"path {budget:g}s"], rows[f"path {budget:g}s + denoise"]
+        assert denoised["integrator"] == "path + denoise" and denoised["spp"] == raw["spp"]
+        assert raw["denoise_seconds"] == "" and float(denoised["denoise_seconds"]) > 0
+        assert float(denoised["seconds"]) == pytest.approx(float(raw["seconds"]) + float(denoised["denoise_seconds"]))
+        assert float(denoised["flip"]) < float(raw["flip"])
+        raw_pixels, _ = read_meta(tiny_study["out"] / "runs" / f"{slug(raw['label'])}.exr")
+        pixels, meta = read_meta(tiny_study["out"] / "runs" / f"{slug(denoised['label'])}.exr")
+        channels = meta["channels"]
+        noisy = pixels[..., [channels.index(c) for c in ("noisy.R", "noisy.G", "noisy.B")]]
+        np.testing.assert_array_equal(noisy, raw_pixels[..., :3])
+        assert meta["gi:denoised"].startswith("Open Image Denoise ")
+    report = (tiny_study["out"] / "report.md").read_text()
+    assert "| path + denoise |" in report and "path 0.3s + denoise" in report
+
+
+def test_study_denoise_choice(tiny_study, cornell, tmp_path, monkeypatch):
+    common = ("study", cornell, "--reference", tiny_study["reference"], "--integrators", "direct", "--budgets",
+              "0.1", "--resolution", *SIZE)
+    proc = run_gi(*common, "--denoise", "path", "-o", tmp_path / "a", check=False)
+    assert proc.returncode == 2 and "--denoise path: path is not among the study's integrators" in proc.stderr
+    run_gi(*common, "--denoise", "none", "-o", tmp_path / "b")
+    with open(tmp_path / "b" / "results.csv", newline="") as stream:
+        assert [row["integrator"] for row in csv.DictReader(stream)] == ["path", "direct"]  # reference, run
+    # Without Open Image Denoise: the default leaves the denoised rows out with a warning, a list is an error.
+    monkeypatch.setenv("GI_OIDN_LIBRARY", str(tmp_path / "nowhere"))
+    proc = run_gi(*common[:5], "path", *common[6:], "-o", tmp_path / "c")
+    assert "gi: warning: no denoised rows: denoising needs Intel Open Image Denoise 2.x" in proc.stderr
+    with open(tmp_path / "c" / "results.csv", newline="") as stream:
+        assert all(not row["label"].endswith("+ denoise") for row in csv.DictReader(stream))
+    proc = run_gi(*common[:5], "path", *common[6:], "--denoise", "path", "-o", tmp_path / "d", check=False)
+    assert proc.returncode == 2 and "pip install pyoidn" in proc.stderr

@@ -1,0 +1,177 @@
+"""UsdRender products and vars: what `gi render SCENE` writes without -o when the stage's render
+settings declare RenderProducts. Each product is one EXR: its productName (frame tokens
+substituted), resolution, camera and data window, and one named set of channels per RenderVar, in
+the var's data type.
+
+A var's sourceName picks what the renderer computes (SOURCES); its dataType how many channels and
+how they are stored (DATA_TYPES). Problems warn naming the prim and leave out only what they
+concern: an unknown sourceName or dataType skips that var, a camera that is not there falls back to
+the render settings' camera, a data window outside the image is clipped to it."""
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from pxr import UsdGeom, UsdRender
+
+from .errors import SceneError
+from .loader import render_settings as stage_render_settings
+
+FLOAT_MAX = np.finfo(np.float32).max
+
+# sourceName -> (RenderResult attribute, its channel count). Hydra's and USD's usual names, plus
+# the spellings common in render settings (Ci, N, Z, P-less).
+SOURCES = {
+    "color": ("color", 3), "Ci": ("color", 3), "C": ("color", 3),
+    "depth": ("depth", 1), "Z": ("depth", 1), "z": ("depth", 1),
+    "normal": ("normal", 3), "N": ("normal", 3), "Neye": None,  # eye-space normal: not computed
+    "albedo": ("albedo", 3), "diffuseColor": ("albedo", 3),
+    "primId": ("prim_id", 1), "instanceId": ("instance_id", 1),
+}
+SOURCES = {name: source for name, source in SOURCES.items() if source is not None}
+
+# dataType -> (channel suffixes, stored as half). Ints are written as 32-bit float channels: EXR has
+# no signed integer channel, and ids (-1 for none) are exact in a float below 2^24.
+_COLOR, _VECTOR = ("R", "G", "B"), ("X", "Y", "Z")
+DATA_TYPES = {
+    "color3f": (_COLOR, False), "color3h": (_COLOR, True), "float3": (_COLOR, False), "half3": (_COLOR, True),
+    "normal3f": (_VECTOR, False), "normal3h": (_VECTOR, True), "vector3f": (_VECTOR, False),
+    "vector3h": (_VECTOR, True), "point3f": (_VECTOR, False), "point3h": (_VECTOR, True),
+    "float": (("",), False), "half": (("",), True), "int": (("",), False), "uint": (("",), False),
+}
+
+
+@dataclass
+class Var:
+    path: str
+    name: str         # the layer name (the var prim's name); the beauty is written as plain R, G, B
+    source: str       # RenderResult attribute
+    channels: tuple   # suffixes, e.g. ('R', 'G', 'B') or ('',)
+    half: bool
+
+
+@dataclass
+class Product:
+    path: str
+    name: str                  # productName, frame tokens not yet substituted
+    resolution: tuple          # (width, height)
+    camera: str                # camera prim path ('' = the render settings' / the loaded scene's)
+    data_window_ndc: tuple     # (xmin, ymin, xmax, ymax), y up as UsdRender has it
+    vars: list = field(default_factory=list)
+
+
+def settings_prim(stage, requested, file):
+    """The RenderSettings to use: `requested` (--settings), else the stage's renderSettingsPrimPath,
+    else the first on the stage; None when there is none. SceneError for a bad `requested`."""
+    if requested:
+        prim = stage.GetPrimAtPath(requested) if requested.startswith("/") else None
+        if not prim or not prim.IsA(UsdRender.Settings):
+            raise SceneError(f"{file}: --settings {requested} is not a RenderSettings prim")
+        return UsdRender.Settings(prim)
+    return stage_render_settings(stage)
+
+
+def _attribute(schema_attr, time, fallback):
+    value = schema_attr.Get(time) if schema_attr and schema_attr.HasAuthoredValue() else None
+    return fallback if value is None else value
+
+
+def read_var(prim, warn, beauty_taken):
+    var = UsdRender.Var(prim)
+    path = str(prim.GetPath())
+    source = str(var.GetSourceNameAttr().Get() or "")
+    data_type = str(var.GetDataTypeAttr().Get() or "")
+    if source not in SOURCES:
+        warn(path, f"sourceName '{source}' is not an output of this renderer (it has: "
+                   f"{', '.join(sorted(SOURCES))}); var skipped")
+        return None
+    if data_type not in DATA_TYPES:
+        warn(path, f"dataType '{data_type}' is not one this renderer writes ({', '.join(sorted(DATA_TYPES))}); "
+                   f"var skipped")
+        return None
+    attribute, components = SOURCES[source]
+    suffixes, half = DATA_TYPES[data_type]
+    if len(suffixes) != components:
+        warn(path, f"dataType '{data_type}' has {len(suffixes)} channels but '{source}' has {components}; "
+                   f"var skipped")
+        return None
+    name = prim.GetName()
+    if attribute == "color" and not beauty_taken:
+        name = ""  # plain R, G, B: what an EXR viewer shows
+    return Var(path, name, attribute, suffixes, half)
+
+
+def read_products(stage, settings, time, camera_override, warn):
+    """The settings' products (authored order) with their vars; [] when it declares none."""
+    if settings is None:
+        return []
+    base_resolution = tuple(_attribute(settings.GetResolutionAttr(), time, (512, 512)))
+    base_camera = camera_override or next((str(t) for t in settings.GetCameraRel().GetForwardedTargets()), "")
+    products = []
+    for target in settings.GetProductsRel().GetForwardedTargets():
+        prim = stage.GetPrimAtPath(target)
+        if not prim or not prim.IsA(UsdRender.Product):
+            warn(str(settings.GetPath()), f"products: {target} is not a RenderProduct; skipped")
+            continue
+        product = UsdRender.Product(prim)
+        path = str(prim.GetPath())
+        camera = camera_override or next((str(t) for t in product.GetCameraRel().GetForwardedTargets()), base_camera)
+        camera_prim = stage.GetPrimAtPath(camera) if camera else None
+        if camera and not (camera_prim and camera_prim.IsA(UsdGeom.Camera)):
+            warn(path, f"camera {camera} does not exist or is not a camera; using "
+                       f"{base_camera or 'the render settings camera'}")
+            camera = base_camera if camera != base_camera else ""
+        resolution = tuple(int(v) for v in _attribute(product.GetResolutionAttr(), time, base_resolution))
+        aspect = float(_attribute(product.GetPixelAspectRatioAttr(), time,
+                                  _attribute(settings.GetPixelAspectRatioAttr(), time, 1.0)))
+        if not math.isclose(aspect, 1.0):
+            warn(path, f"pixelAspectRatio {aspect:g}: only square pixels are rendered; 1 used")
+        ndc = tuple(float(v) for v in _attribute(product.GetDataWindowNDCAttr(), time,
+                                                 _attribute(settings.GetDataWindowNDCAttr(), time, (0, 0, 1, 1))))
+        out = Product(path, str(product.GetProductNameAttr().Get(time) or ""), resolution, camera, ndc)
+        if not out.name:
+            warn(path, "no productName; product skipped")
+            continue
+        for var_path in product.GetOrderedVarsRel().GetForwardedTargets():
+            var_prim = stage.GetPrimAtPath(var_path)
+            if not var_prim or not var_prim.IsA(UsdRender.Var):
+                warn(path, f"orderedVars: {var_path} is not a RenderVar; skipped")
+                continue
+            var = read_var(var_prim, warn, any(v.name == "" for v in out.vars))
+            if var is not None:
+                out.vars.append(var)
+        if not out.vars:
+            warn(path, "no var this renderer can write; product skipped")
+            continue
+        products.append(out)
+    return products
+
+
+def pixel_window(product, warn):
+    """dataWindowNDC as pixels (x0, y0, x1, y1), row 0 at the top: NDC y runs up, so ymax is the
+    top row. A window reaching outside the image is clipped to it (with a warning)."""
+    width, height = product.resolution
+    xmin, ymin, xmax, ymax = product.data_window_ndc
+    window = (round(xmin * width), round((1 - ymax) * height), round(xmax * width), round((1 - ymin) * height))
+    clipped = (max(0, window[0]), max(0, window[1]), min(width, window[2]), min(height, window[3]))
+    if clipped[2] <= clipped[0] or clipped[3] <= clipped[1]:
+        warn(product.path, f"dataWindowNDC {product.data_window_ndc} holds no pixel; the whole image is rendered")
+        return (0, 0, width, height)
+    if clipped != window:
+        warn(product.path, f"dataWindowNDC {product.data_window_ndc} reaches outside the image; clipped to it")
+    return clipped
+
+
+def product_planes(product, result):
+    """(pixels (h, w, C) float32 of the result's data window, channel names, half flags)."""
+    x0, y0, x1, y1 = result.data_window
+    planes, names, half = [], [], []
+    for var in product.vars:
+        image = np.asarray(getattr(result, var.source))[y0:y1, x0:x1].astype(np.float32)
+        if var.source == "depth":  # no Inf in the file, as write_exr
+            image = np.where(np.isfinite(image), image, FLOAT_MAX).astype(np.float32)
+        image = image.reshape(image.shape[0], image.shape[1], -1)
+        for c, suffix in enumerate(var.channels):
+            planes.append(image[..., c])
+            names.append(".".join(p for p in (var.name, suffix) if p) or var.name)
+            half.append(var.half)
+    return np.ascontiguousarray(np.stack(planes, axis=-1)), names, half

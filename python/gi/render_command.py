@@ -1,0 +1,159 @@
+"""`gi render`: the frames (gi.sequence) times the images each frame writes (the -o EXR, or the
+render settings' RenderProducts, gi.products), rendered and written with one summary line each."""
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from .cli import exr_metadata, progress_bar, render_loaded, render_settings, require_core, summary, warn
+
+
+def check_frame_names(args, parser, pattern, flag):
+    from .frames import has_frame_token
+    if args.frames and len(args.frames) > 1 and not has_frame_token(pattern):
+        parser.error(f"{flag} {pattern} names one file but --frames renders {len(args.frames)} frames; put #### or "
+                     f"$F4 in it (e.g. out/shot.####.exr)")
+
+
+@dataclass
+class Target:
+    """One image a frame renders: the -o (or default) EXR, or a RenderProduct."""
+    exr: str                  # path pattern (frame tokens not substituted)
+    product: object = None    # gi.products.Product, or None for the default layers
+    resolution: tuple = None  # None: --resolution, else the loaded scene's
+    camera: str = ""          # a camera prim path other than the loaded scene's, or ''
+    window: tuple = None      # (x0, y0, x1, y1) pixels, or None for the whole image
+
+
+def render_targets(args, parser, sequence):
+    """Without -o (and --tile), the render settings' RenderProducts; else the one -o EXR."""
+    from .loader import as_time_code
+    from .products import pixel_window, read_products, settings_prim
+    if not args.output and not args.tile:
+        settings = settings_prim(sequence.stage, args.settings, sequence.path)
+        products = read_products(sequence.stage, settings, as_time_code(sequence.frames[0]), args.camera, lambda path, message: warn(f"{sequence.path}: {path}: {message}"))
+        targets = []
+        for product in products:
+            check_frame_names(args, parser, product.name, f"{product.path} productName")
+            resolution = tuple(args.resolution) if args.resolution else product.resolution
+            product.resolution = resolution
+            window = pixel_window(product, lambda path, message: warn(f"{sequence.path}: {path}: {message}"))
+            targets.append(Target(product.name, product, resolution, product.camera, window))
+        if targets:
+            return targets
+    elif args.settings:
+        parser.error("--settings picks the RenderProducts to write; -o and --tile write one image instead")
+    default = str(Path("out") / f"{Path(args.scene).stem}{'.####' if args.frames else ''}.exr")
+    exr = args.output or default
+    check_frame_names(args, parser, exr, "-o")
+    return [Target(exr)]
+
+
+def write_target(target, result, metadata, args, number, denoised=None):
+    """Writes the target's EXR (and the default target's PNG); returns the paths written.
+    denoised: the denoised colour, written as the default target's R, G, B and PNG, with the raw
+    colour as its noisy.R/G/B layer."""
+    from .frames import frame_path
+    _core = require_core()
+    exr = Path(frame_path(target.exr, number))
+    exr.parent.mkdir(parents=True, exist_ok=True)
+    if target.product is not None:
+        from .products import product_planes
+        pixels, channels, half = product_planes(target.product, result)
+        x0, y0, x1, y1 = result.data_window
+        metadata["gi:product"] = target.product.path
+        full = (x1 - x0, y1 - y0) == tuple(target.resolution)
+        _core.write_channels_exr(str(exr), pixels, channels, metadata,
+                                 None if full else (x0, y0, *target.resolution), half)
+        return [str(exr)]
+    color = result.color if denoised is None else denoised
+    _core.write_exr(str(exr), result, metadata, color=color, layers={} if denoised is None else {"noisy": result.color})
+    outputs = [str(exr)]
+    if not args.no_png and not args.tile:  # a tile's picture is written by the merge
+        png = Path(frame_path(args.png, number)) if args.png else exr.with_suffix(".png")
+        png.parent.mkdir(parents=True, exist_ok=True)
+        _core.write_png(str(png), color, args.display, args.view, args.exposure)
+        outputs.append(str(png))
+    return outputs
+
+
+def name_number(frame, sequence):
+    """The number a frame token takes: the frame, or without --frames the earliest time sample
+    (the time rendered then), 0 on a stage with none."""
+    if frame is not None:
+        return frame
+    return int(sequence.time_range[0]) if sequence.time_range else 0
+
+
+def cmd_render(args, flags, parser):
+    from .frames import frame_seed
+    from .loader import camera_at
+    from .sequence import Sequence
+    from .tiles import tile_window, why_tiles_differ
+    params = flags.chosen(args, parser)
+    if args.tile and why_tiles_differ(args):
+        parser.error(f"--tile with {why_tiles_differ(args)}")
+    denoiser = None
+    if args.denoise:  # before rendering: a missing denoiser must not cost a render first
+        from .denoise import open_denoiser
+        denoiser = open_denoiser(args.threads)
+    frames = args.frames or [None]
+    sequence = Sequence(args.scene, frames, camera=args.camera, allow_missing=args.allow_missing)
+    for message in sequence.warnings:
+        warn(message)
+    targets = render_targets(args, parser, sequence)
+    if denoiser is not None and any(target.product is not None for target in targets):
+        warn("--denoise denoises the -o image; the RenderProducts are written undenoised")
+    label = f"{Path(args.scene).name} [{args.integrator}]"
+    bar, update = progress_bar(f"{label} {len(frames)} frames" if args.frames else label, sys.stderr.isatty())
+    warned = set()  # each load's warnings once, not once per frame
+    steps = len(frames) * len(targets)
+    start = time.perf_counter()  # each frame's time counts its load (done as the sequence advances)
+    try:
+        for index, frame in enumerate(sequence):
+            for message in frame.loaded.warnings:
+                if message not in warned:
+                    warned.add(message)
+                    warn(message)
+            seed = args.seed if frame.number is None else frame_seed(args.seed, frame.number)
+            for t, target in enumerate(targets):
+                settings = render_settings(frame.loaded, args.integrator, params, args.spp, seed, args.threads,
+                                           args.time_limit,
+                                           target.resolution or (tuple(args.resolution) if args.resolution else None),
+                                           args.filter)
+                settings.preset = args.preset or ""
+                if args.tile:
+                    settings.data_window = tile_window(args.tile, settings.width, settings.height)
+                elif target.window:
+                    settings.data_window = target.window
+                camera = frame.camera
+                if target.camera and target.camera != frame.loaded.camera_path:
+                    camera = camera_at(sequence.stage, target.camera, frame.number)
+                step = index * len(targets) + t
+                result = render_loaded(frame.loaded, settings, label, camera=camera,
+                                       progress=lambda fraction: update((step + fraction) / steps))
+                wall_seconds = time.perf_counter() - start
+                for message in frame.loaded.scene.warnings():
+                    if message not in warned:
+                        warned.add(message)
+                        warn(message)
+                if result.auto_summary:
+                    print(f"gi: {result.auto_summary}", file=sys.stderr)
+                metadata = exr_metadata(args, params, result, frame.loaded, wall_seconds, frame.number, seed)
+                denoised, denoised_text = None, ""
+                if denoiser is not None and target.product is None:
+                    from .denoise import denoise_metadata, denoise_result
+                    denoised, denoise_seconds = denoise_result(denoiser, result)
+                    metadata.update(denoise_metadata(denoiser, denoise_seconds))
+                    denoised_text = f", denoised in {denoise_seconds:.2f} s (OIDN {denoiser.version})"
+                if target.camera:
+                    metadata["gi:camera"] = target.camera
+                if args.tile:
+                    metadata["gi:tile"] = args.tile.text
+                outputs = write_target(target, result, metadata, args, name_number(frame.number, sequence), denoised)
+                bar.clear()
+                print(summary(args, settings, result, wall_seconds, outputs, frame.number) + denoised_text, flush=True)
+                start = time.perf_counter()
+    finally:
+        bar.close()
+    return 0
