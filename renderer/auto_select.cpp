@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <utility>
 
 #include "render.h"
 
@@ -186,9 +187,12 @@ AutoChoice chooseIntegrator(const Scene& scene, const RenderSettings& settings, 
         double weightLeft = 0;
         for (size_t j = k; j < candidates.size(); ++j) weightLeft += pilotWeight(candidates[j]);
         double each = (end - steadySeconds()) * pilotWeight(candidates[k]) / weightLeft / 2;
-        pilots.push_back(each > 0 ? renderPilot(scene, settings, camera, candidates[k], choice.pilotWidth,
-                                                choice.pilotHeight, each, settings.seed + 1 + 2 * uint32_t(k), cancel)
-                                  : AutoPilot{candidates[k]});
+        AutoPilot pilot;  // no time left: incomplete
+        pilot.integrator = candidates[k];
+        if (each > 0)
+            pilot = renderPilot(scene, settings, camera, candidates[k], choice.pilotWidth, choice.pilotHeight, each,
+                                settings.seed + 1 + 2 * uint32_t(k), cancel);
+        pilots.push_back(std::move(pilot));
         if (cancel && cancel->load()) {
             scene.dropWarningsAfter(warningsBefore);
             choice.cancelled = true;
