@@ -253,7 +253,11 @@ def test_equal_time_runs_keep_their_budget_and_the_report_says_so(tiny_study):
 
 def test_denoised_rows_are_the_same_renders_denoised(tiny_study):
     """Each path run has a '+ denoise' row: the same render (spp, raw colour kept in its EXR), its time
-    the render's plus the denoising's, and a lower FLIP (the reason path is in study.DEFAULT_DENOISED)."""
+    the render's plus the denoising's, and its errors those of the denoised image. Whether denoising
+    lowers FLIP is test_denoise's (at 16 spp, 128x128): in this 32x32 study a quiet machine renders
+    enough samples in 0.6 s that the filter's blur can cost as much as it removes (measured: FLIP
+    0.0451 denoised against 0.0449 raw)."""
+    from gi import metrics
     if not oidn_installed():
         pytest.skip("Open Image Denoise is not installed")
     from gi.study import slug
@@ -263,13 +267,16 @@ def test_denoised_rows_are_the_same_renders_denoised(tiny_study):
         assert denoised["integrator"] == "path + denoise" and denoised["spp"] == raw["spp"]
         assert raw["denoise_seconds"] == "" and float(denoised["denoise_seconds"]) > 0
         assert float(denoised["seconds"]) == pytest.approx(float(raw["seconds"]) + float(denoised["denoise_seconds"]))
-        assert float(denoised["flip"]) < float(raw["flip"])
         raw_pixels, _ = read_meta(tiny_study["out"] / "runs" / f"{slug(raw['label'])}.exr")
         pixels, meta = read_meta(tiny_study["out"] / "runs" / f"{slug(denoised['label'])}.exr")
         channels = meta["channels"]
         noisy = pixels[..., [channels.index(c) for c in ("noisy.R", "noisy.G", "noisy.B")]]
         np.testing.assert_array_equal(noisy, raw_pixels[..., :3])
         assert meta["gi:denoised"].startswith("Open Image Denoise ")
+        # The row's FLIP is the denoised image's (R, G, B), not the raw one's.
+        reference, _ = read_meta(tiny_study["reference"])
+        assert float(denoised["flip"]) == pytest.approx(metrics.flip(pixels[..., :3], reference[..., :3]), rel=1e-6)
+        assert not np.array_equal(pixels[..., :3], noisy)
     report = (tiny_study["out"] / "report.md").read_text()
     assert "| path + denoise |" in report and "path 0.3s + denoise" in report
 
