@@ -313,6 +313,9 @@ public:
         if (image_) buildDistribution();
     }
     bool isInfinite() const override { return true; }
+    // Its photons start on a disc facing their own direction: a place on that disc is a
+    // different place in the scene for every direction, nothing a guide over uPos could learn.
+    bool emitsFromFixedPositions() const override { return false; }
     LightSample sample(const Vec3& ref, Vec2 u) const override {
         LightSample ls;
         ls.distance = kInf;

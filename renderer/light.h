@@ -60,6 +60,9 @@ public:
     virtual Color power(const SceneBounds&) const = 0;
     virtual PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&) const = 0;
     virtual bool isInfinite() const { return false; }
+    // Whether emit()'s uPos names a fixed place in the scene (a point on the light, or on the
+    // disc a sun shines through), so that an emission guide can learn which of them pay.
+    virtual bool emitsFromFixedPositions() const { return true; }
     virtual void preprocess(const SceneBounds& bounds) { bounds_ = bounds; }
     // Portals over the openings an infinite light shines through (portal.h); others ignore them.
     virtual void setPortals(std::shared_ptr<const PortalSet>) {}

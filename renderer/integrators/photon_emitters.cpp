@@ -10,10 +10,14 @@ namespace gi {
 
 namespace {
 constexpr uint32_t kPilotStream = 0x7011a7u;
+constexpr size_t kGuideCells = size_t(EmissionGuide::kCells) * EmissionGuide::kCells;
 
 struct PilotCounts {
     std::vector<uint32_t> emitted, landed, seen;  // per light
-    explicit PilotCounts(size_t lights) : emitted(lights, 0), landed(lights, 0), seen(lights, 0) {}
+    std::vector<std::vector<uint32_t>> cellEmitted, cellSeen;  // per light, per guide cell
+    explicit PilotCounts(size_t lights)
+        : emitted(lights, 0), landed(lights, 0), seen(lights, 0),
+          cellEmitted(lights, std::vector<uint32_t>(kGuideCells, 0)), cellSeen(lights, std::vector<uint32_t>(kGuideCells, 0)) {}
 };
 
 std::string describe(const Scene& scene, const std::vector<int>& lights, const PilotCounts& counts) {
@@ -62,15 +66,18 @@ PhotonEmitters choosePhotonEmitters(const Scene& scene, const SeenSurfaces& seen
         RayStats stats;
         for (uint32_t i = r.begin(); i < r.end(); ++i) {
             bool landed = false, wasSeen = false;
+            int cell = 0;
             int light = tracer.trace(kPilotStream, i, pilotPhotons, settings, stats,
                                      [&](const Photon& photon, PhotonPath, int) {
                                          landed = true;
                                          wasSeen = wasSeen || seen.contains(photon.p, photon.n(), photon.surface);
-                                     });
+                                     }, &cell);
             if (light < 0) continue;
             counts.emitted[light]++;
             counts.landed[light] += landed;
             counts.seen[light] += wasSeen;
+            counts.cellEmitted[light][size_t(cell)]++;
+            counts.cellSeen[light][size_t(cell)] += wasSeen;
         }
     });
     PilotCounts total(lights);  // sums of integers: the same whatever the threads did
@@ -79,6 +86,10 @@ PhotonEmitters choosePhotonEmitters(const Scene& scene, const SeenSurfaces& seen
             total.emitted[i] += c.emitted[i];
             total.landed[i] += c.landed[i];
             total.seen[i] += c.seen[i];
+            for (size_t cell = 0; cell < kGuideCells; ++cell) {
+                total.cellEmitted[i][cell] += c.cellEmitted[i][cell];
+                total.cellSeen[i][cell] += c.cellSeen[i][cell];
+            }
         }
 
     std::vector<float> weights(lights, 0.0f);
@@ -102,6 +113,9 @@ PhotonEmitters choosePhotonEmitters(const Scene& scene, const SeenSurfaces& seen
         return result;
     }
     result.distribution = Distribution1D(weights.data(), int(lights));
+    std::vector<bool> guidable(lights);
+    for (size_t i = 0; i < lights; ++i) guidable[i] = scene.lights()[i]->emitsFromFixedPositions();
+    result.guide = EmissionGuide(total.cellEmitted, total.cellSeen, guidable);
     return result;
 }
 

@@ -6,17 +6,21 @@
 // the scene, or lighting only rooms the camera cannot see into. The others keep their
 // power-proportional share, so every photon map is still an unbiased estimate of the light
 // that can reach the image. Lights with fewer pilot photons are kept: too little is known.
+// The same pilot, counted per cell of each light's emission positions, makes the guide that
+// starts photons where they reach what the render reads (emission_guide.h).
 #pragma once
 #include <string>
 #include <vector>
 
 #include "../scene.h"
+#include "emission_guide.h"
 #include "seen_surfaces.h"
 
 namespace gi {
 
 struct PhotonEmitters {
     Distribution1D distribution;  // over scene.lights(); empty when no light emits photons
+    EmissionGuide guide;          // where on each light its photons start
     std::vector<int> skipped;     // lights left out
     int emitting = 0;             // lights with a share of the photons
     uint32_t pilotPhotons = 0;  // traced (fewer than asked when a deadline stopped the pilot)

@@ -86,6 +86,7 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
     stats["gatherRadius"] = maps.gatherRadius;
     stats["pilotPhotons"] = 0;
     stats["photonLightsSkipped"] = 0;
+    stats["photonLightsGuided"] = 0;
 
     PhotonEmitters emitters;
     auto pilotStart = Clock::now();
@@ -104,6 +105,7 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
             stats["pilotSeconds"] = secondsSince(traceStart);
             stats["pilotPhotons"] = emitters.pilotPhotons;
             stats["photonLightsSkipped"] = double(emitters.skipped.size());
+            stats["photonLightsGuided"] = settings.guideEmission ? double(emitters.guide.guidedLights()) : 0;
         }
     }
     if (emitters.empty()) globalCount = causticCount = 0;
@@ -132,7 +134,7 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
     };
 
     PhotonTracer::Counters counters;
-    PhotonTracer tracer(scene, emitters.distribution, context.seed);
+    PhotonTracer tracer(scene, emitters.distribution, context.seed, settings.guideEmission ? &emitters.guide : nullptr);
     std::vector<Photon> globalPhotons, causticPhotons;
     if (globalCount > 0) {
         PhotonTraceSettings global;

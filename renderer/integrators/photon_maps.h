@@ -43,6 +43,9 @@ struct PhotonMapSettings {
     // a gather point one bounce away needs no finer resolution, and each costs a k-nearest
     // search (with 6 million photons, every 4th would take longer than tracing them).
     bool precomputeIrradiance = false;
+    // Photons start where the emitter pilot saw them reach what the render reads
+    // (emission_guide.h); off: uniformly over each light (for comparisons).
+    bool guideEmission = true;
 };
 
 inline constexpr uint32_t kMinIrradianceStride = 4, kMaxIrradiancePhotons = 1u << 18;

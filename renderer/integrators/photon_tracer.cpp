@@ -7,7 +7,7 @@
 namespace gi {
 
 int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const PhotonTraceSettings& settings,
-                        RayStats& stats, const PhotonLanding& land) const {
+                        RayStats& stats, const PhotonLanding& land, int* cell) const {
     if (scene_.lights().empty() || emitters_.size() != int(scene_.lights().size())) return -1;
     Sampler sampler(seed_);
     sampler.startStream(stream, index);
@@ -15,8 +15,11 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
     float pmf = 0;
     int light = emitters_.sample(uLight.x, &pmf);
     if (!(pmf > 0)) return -1;
+    float density = 1;
+    if (guide_) uPosition = guide_->sample(light, uPosition, &density);
+    if (cell) *cell = EmissionGuide::cellOf(uPosition);
     PhotonEmission emission = scene_.lights()[light]->emit(uPosition, uDirection, scene_.bounds());
-    Color beta = emission.power / float(double(pmf) * emitted);
+    Color beta = emission.power / float(double(pmf) * density * emitted);
     if (!isFinite(beta) || isBlack(beta) || !isFinite(emission.ray.o) || !isFinite(emission.ray.d)) return light;
     Ray ray = emission.ray;
     PhotonPath path = PhotonPath::Direct;

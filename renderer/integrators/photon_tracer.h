@@ -17,6 +17,7 @@
 #include <functional>
 #include <vector>
 
+#include "emission_guide.h"
 #include "lighting.h"
 #include "path.h"
 #include "photon.h"
@@ -43,14 +44,16 @@ using PhotonLanding = std::function<void(const Photon&, PhotonPath, int light)>;
 class PhotonTracer {
 public:
     // `emitters`: a distribution over scene.lights() (zero for lights that emit none).
-    PhotonTracer(const Scene& scene, const Distribution1D& emitters, uint32_t seed)
-        : scene_(scene), emitters_(emitters), seed_(seed) {}
+    // `guide` (may be null: uniform): where on each light photons start (emission_guide.h).
+    PhotonTracer(const Scene& scene, const Distribution1D& emitters, uint32_t seed, const EmissionGuide* guide = nullptr)
+        : scene_(scene), emitters_(emitters), seed_(seed), guide_(guide) {}
 
     // Traces photon `index` of `stream`, one of `emitted` photons of its pass. Calls
     // land(photon, path, light) at every non-specular surface with a non-black BSDF it
-    // reaches. Returns the light that emitted it, or -1 if none could.
+    // reaches. Returns the light that emitted it, or -1 if none could. `cell` (if given): the
+    // guide's cell of the photon's starting point (EmissionGuide::cellOf), for the pilot.
     int trace(uint32_t stream, uint32_t index, double emitted, const PhotonTraceSettings& settings, RayStats& stats,
-               const PhotonLanding& land) const;
+               const PhotonLanding& land, int* cell = nullptr) const;
 
     // Traces photons [0, count) of `stream` on all threads and returns the landings that
     // settings.keeps(), in photon order. Stops early (between chunks) when cancelled, or once
@@ -69,6 +72,7 @@ private:
     const Scene& scene_;
     const Distribution1D& emitters_;
     uint32_t seed_;
+    const EmissionGuide* guide_;
 };
 
 }  // namespace gi

@@ -48,7 +48,7 @@ void ProgressivePhotonMapIntegrator::beginPass(const PreprocessContext& context,
     maps_.assign(size_t(std::max(0, count)), PhotonMap());
     radiusScales_.resize(maps_.size());
     uint32_t photons = uint32_t(std::clamp(settings_.photonsPerPass, 1.0, kMaxPhotonsPerMap));
-    PhotonTracer tracer(context.scene, emitters_.distribution, context.seed);
+    PhotonTracer tracer(context.scene, emitters_.distribution, context.seed, &emitters_.guide);
     PhotonTraceSettings trace;
     trace.maxBounces = settings_.photonDepth;
     trace.keepDirect = false;  // light sampling has it
