@@ -13,6 +13,7 @@ and the records or photons. Figures are from one run on a shared machine: compar
 
     .venv/bin/python bench/untuned.py [--scenes room,room-sky,sponza,sibenik,sibenik-portals] [--resolution 128 96]
         [--seconds 5] [--reference-seconds 120] [--integrators path,irradianceCache,...]
+    (an integrator may carry parameters: photonMapFinalGather:gatherBounces=0; separate those with ';')
 """
 import argparse
 import sys
@@ -23,7 +24,8 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 
-SCENES = {"room": (ROOT / "scenes/window_room/window_room.usda", True),
+SCENES = {"cornell": (ROOT / "scenes/cornell/cornell.usda", False),
+          "room": (ROOT / "scenes/window_room/window_room.usda", True),
           "room-sky": (ROOT / "scenes/window_room/window_room_sky.usda", False),
           "sponza": (ROOT / "scenes/sponza/sponza.usda", False),
           "sibenik": (ROOT / "scenes/sibenik/sibenik_sky.usda", True),
@@ -34,10 +36,13 @@ COUNTS = ["records", "globalMapPhotons", "causticMapPhotons", "photonsStored"]
 
 
 def render(loaded, integrator, resolution, spp, seconds, seed=1):
+    """integrator: a name, or name:param=value,... (e.g. photonMapFinalGather:gatherBounces=0)."""
     from gi import _core
+    name, _, given = integrator.partition(":")
     s = _core.RenderSettings()
     s.width, s.height = resolution
-    s.integrator, s.spp, s.seed, s.time_limit = integrator, spp, seed, seconds
+    s.integrator, s.spp, s.seed, s.time_limit = name, spp, seed, seconds
+    s.params = {key: float(value) for key, value in (pair.split("=") for pair in given.split(",") if pair)}
     start = time.perf_counter()
     result = _core.render(loaded.scene, s)
     return np.asarray(result.color), result.stats, time.perf_counter() - start
@@ -68,7 +73,7 @@ def main():
               f"{int(ref_stats['spp'])} spp in {ref_wall:.0f} s, mean {reference.mean():.5f}")
         print("| technique | seconds | spp | mean / ref | RMSE sRGB8 | FLIP | outlier blocks | records / photons |")
         print("|---|---|---|---|---|---|---|---|")
-        for integrator in args.integrators.split(","):
+        for integrator in (args.integrators.split(";") if ";" in args.integrators else args.integrators.split(",")):
             image, stats, wall = render(loaded, integrator, resolution, 1 << 24, args.seconds)
             m = metrics.compare(image, reference)
             counts = ", ".join(f"{k} {int(stats[k])}" for k in COUNTS if k in stats)

@@ -47,15 +47,51 @@ Color PhotonMapFinalGatherIntegrator::indirect(const Scene& scene, const Shading
 Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sampler& sampler, RayStats& stats,
                                                 int vertex) const {
     Color L(0.0f), weight(1.0f);
+    int bounces = 0;  // path-traced vertices past the gather hit (gatherBounces of them, then the map)
+    // An emitter this path reaches is its to count only when a path-traced vertex's non-specular
+    // sample found it (MIS against that vertex's light sample); through specular surfaces, the
+    // caustic map read at the vertex before them counts it. MIS needs that sample's pdf and point.
+    bool countsEmitters = false;
+    float prevPdf = 0;
+    Vec3 prevPoint;
     for (;; ++vertex) {
         Intersection hit = intersectVisible(scene, ray, sampler, stats, false);
+        if (countsEmitters) {
+            if (hit.kind == Intersection::Kind::None) return L + weight * escapedRadiance(scene, ray, prevPdf, false, false);
+            L += weight * emittedOnHit(scene, hit, ray, prevPoint, prevPdf, false);
+        }
         if (hit.kind != Intersection::Kind::Surface) return L;  // lights: direct light or caustics
         const SurfaceInteraction& si = hit.si;
         // An emissive surface that is not a light (an emissive sphere) is sampled by nothing
         // else, so the gather ray collects it.
-        if (si.emissiveLight < 0 && si.material->isEmissive() && (si.doubleSided || dot(ray.d, si.ng) < 0))
+        if (!countsEmitters && si.emissiveLight < 0 && si.material->isEmissive() &&
+            (si.doubleSided || dot(ray.d, si.ng) < 0))
             L += weight * si.material->emission(si.uv);
         ShadingPoint sp = makeShadingPoint(si, -ray.d);
+        if (bounces < settings_.gatherBounces) {
+            // A path-traced bounce: light-sampled with MIS, the BSDF choosing the way on.
+            ++bounces;
+            if (sp.bsdf.hasNonDelta()) {
+                L += weight * sampleDirectLight(scene, sp, sampler, stats, true);
+                // Light focused here through glass or off a mirror (L S+ D), which neither light
+                // sampling nor the BSDF's way on can find: the caustic map's, as at the shading point.
+                if (!maps_.caustic.empty()) {
+                    L += weight * maps_.caustic.radiance(sp, scene, settings_.photons.gatherPhotons, maps_.gatherRadius,
+                                                         kCausticConeFilter).value;
+                    lookups_.fetch_add(1, std::memory_order_relaxed);
+                }
+            }
+            if (depthLimitReached(vertex, settings_.finalGatherDepth, stats)) return L;
+            float uLobe = sampler.get1D();
+            BsdfSample bs = sp.bsdf.sample(sp.woLocal, uLobe, sampler.get2D());
+            if (!bs.valid) return L;
+            weight *= bs.weight;
+            if (!isFinite(weight) || isBlack(weight)) return L;
+            countsEmitters = !bs.delta;
+            prevPdf = bs.pdf, prevPoint = sp.si.p;
+            ray = spawnRay(sp.si, sp.frame.toWorld(bs.wi));
+            continue;
+        }
         if (settings_.gatherDirectLight && sp.bsdf.hasNonDelta())
             L += weight * sampleDirectLight(scene, sp, sampler, stats, false);
         Color reflectance = sp.bsdf.diffuseReflectance();
@@ -79,6 +115,7 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
         int n = sp.bsdf.deltaBranches(sp.woLocal, branches);
         if (n == 0 || depthLimitReached(vertex, settings_.finalGatherDepth, stats)) return L;
         if (!followDeltaBranch(sp, branches, n, sampler.get1D(), weight, ray)) return L;
+        countsEmitters = false;
     }
 }
 

@@ -131,6 +131,8 @@ std::vector<IntegratorInfo> buildRegistry() {
          kMaxGatherRadius, kFinalGatherSamples, kFinalGatherDepth,
          ParamInfo{"gatherDirectLight", "bool", 1, 0, 1,
                    "light-sample the direct light at gather hits, the photon map giving the rest (0: all from the map, as the thesis)"},
+         intParam("gatherBounces", 1, 0, kDepthCap,
+                  "vertices a gather ray path-traces past its hit before it reads the photon map (0: at the hit, as the thesis)"),
          kRayDepth, kLightSamples},
         nullptr};
     finalGather.create = [info = finalGather](const ParamSet& p) -> std::unique_ptr<Integrator> {
@@ -139,6 +141,7 @@ std::vector<IntegratorInfo> buildRegistry() {
         s.finalGatherSamples = int(paramValue(info, p, "finalGatherSamples"));
         s.finalGatherDepth = int(paramValue(info, p, "finalGatherDepth"));
         s.gatherDirectLight = paramValue(info, p, "gatherDirectLight") != 0;
+        s.gatherBounces = int(paramValue(info, p, "gatherBounces"));
         s.rayDepth = int(paramValue(info, p, "rayDepth"));
         s.lightSamples = int(paramValue(info, p, "lightSamples"));
         return std::make_unique<PhotonMapFinalGatherIntegrator>(s);
@@ -209,7 +212,7 @@ std::vector<Preset> buildPresets() {
             p.params[cache] = {{"paths", 108}, {"pathDepth", depth}, {"rayDepth", depth}};
         p.params["photonMapFinalGather"] = {{"photons", 500000}, {"causticPhotons", 500000}, {"photonDepth", depth},
                                             {"finalGatherSamples", gatherSamples}, {"finalGatherDepth", depth},
-                                            {"gatherDirectLight", 0},
+                                            {"gatherDirectLight", 0}, {"gatherBounces", 0},
                                             {"rayDepth", depth}};
         p.params["photonMapIrradianceCache"] = {{"photons", 500000}, {"causticPhotons", 500000}, {"photonDepth", depth},
                                                 {"paths", 120}, {"pathDepth", depth}, {"rayDepth", depth}};

@@ -418,8 +418,11 @@ TEST(PhotonMapRender, LightSealedInABoxEmitsNoPhotons) {
         ASSERT_TRUE(allFinite(withBulb)) << integrator;
         EXPECT_EQ(withBulb.stats.integrator.at("photonLightsSkipped"), 1) << integrator;
         EXPECT_TRUE(warned(withBulb, "/Box/Bulb")) << integrator;
-        // The photon maps are the very same: the skipped light takes no share of the photons.
-        EXPECT_EQ(withBulb.stats.integrator.at("globalMapPhotons"), without.stats.integrator.at("globalMapPhotons"));
+        // The skipped light takes no share of the photons: the maps hold as many photons, up to
+        // the pilot's own noise (the sky's pilot photons, fewer beside the bulb, shape its
+        // emission guide): a Poisson count of n photons varies by sqrt(n), 4 sigma allowed.
+        double stored = without.stats.integrator.at("globalMapPhotons");
+        EXPECT_NEAR(withBulb.stats.integrator.at("globalMapPhotons"), stored, 4 * std::sqrt(stored)) << integrator;
         // Light sampling still picks the bulb now and then (and finds it occluded): noise, not bias.
         double a = channelMean(withBulb.rgb, 1), b = channelMean(without.rgb, 1);
         EXPECT_NEAR(a, b, 0.05 * b) << integrator;
@@ -483,6 +486,58 @@ TEST(PhotonMapRender, ColouredCausticMatchesThePathTracer) {
         // The caustic is coloured by the glass: less blue than red.
         EXPECT_LT(channelMean(photons.rgb, 2), 0.8 * channelMean(photons.rgb, 0)) << integrator;
     }
+}
+
+// Light focused through a glass ball onto a floor (the ball sits in the only opening of a black
+// shade), seen only after a bounce: the camera looks at a wall beside it that no light reaches
+// directly. Final gathering's gather ray from the wall path-traces one vertex on the floor
+// (gatherBounces = 1), so the caustic there must come from the caustic map at that vertex: without
+// it the wall loses most of its light. The path tracer (its BSDF-sampled rays from the floor
+// through the ball find the light) is the reference.
+TEST(PhotonMapRender, CausticSeenAfterABounceMatchesThePathTracer) {
+    auto build = [](Scene& scene) {
+        int white = scene.addMaterial(lambert(Color(0.8f)));
+        int black = scene.addMaterial(lambert(Color(0.0f)));
+        MaterialDesc glass;
+        glass.name = "glass";
+        glass.opacity = 0;
+        glass.roughness = 0;
+        glass.ior = 1.5f;
+        int g = scene.addMaterial(glass);
+        addQuad(scene, "/Floor", {-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, white);
+        addQuad(scene, "/Wall", {1, 0, -1}, {1, 0, 1}, {1, 1, 1}, {1, 1, -1}, white);
+        // The shade at y = 1, open over the ball only (a 0.6 x 0.6 hole: three quarters of its
+        // light passes the glass).
+        addQuad(scene, "/ShadeA", {-3, 1, -3}, {-0.3f, 1, -3}, {-0.3f, 1, 3}, {-3, 1, 3}, black);
+        addQuad(scene, "/ShadeB", {0.3f, 1, -3}, {3, 1, -3}, {3, 1, 3}, {0.3f, 1, 3}, black);
+        addQuad(scene, "/ShadeC", {-0.3f, 1, -3}, {0.3f, 1, -3}, {0.3f, 1, -0.3f}, {-0.3f, 1, -0.3f}, black);
+        addQuad(scene, "/ShadeD", {-0.3f, 1, 0.3f}, {0.3f, 1, 0.3f}, {0.3f, 1, 3}, {-0.3f, 1, 3}, black);
+        scene.addSphere("/Ball", Vec3(0, 0.6f, 0), 0.3f, g, nullptr, -1);
+        scene.addLight(rectLight("/Light", Vec3(0, 3, 0), Vec3(0, -1, 0), 0.6f, 60));
+        CameraDesc camera;  // orthographic, 0.6 x 0.6, onto the wall from in front of it
+        camera.name = "/Camera";
+        camera.projection = "orthographic";
+        camera.horizontalAperture = camera.verticalAperture = 6;  // tenths of a unit
+        camera.transform = lookAlong(Vec3(0.7f, 0.5f, 0), Vec3(1, 0, 0));
+        scene.setCamera(camera);
+    };
+    // Both are noisy (a caustic): over five seeds each, per seed the path tracer's wall varies by
+    // 1.4% (8192 spp) and final gathering's by 1.7% (16 spp), so the ratio of the five-seed means
+    // by about 1%: 4% is 4 sigma. Measured: 0.98; without the caustic map at the bounce, 0.91.
+    double pathSum = 0, gatherSum = 0;
+    for (uint32_t seed = 1; seed <= 5; ++seed) {
+        Scene reference, scene;
+        build(reference);
+        build(scene);
+        Render path = render(reference, "path", 8, 8192, {}, seed);
+        Render fg = render(scene, "photonMapFinalGather", 8, 16, {{"causticPhotons", 1000000}, {"photons", 200000}}, seed);
+        ASSERT_TRUE(allFinite(fg));
+        pathSum += channelMean(path.rgb, 1);
+        gatherSum += channelMean(fg.rgb, 1);
+    }
+    std::printf("[ caustic ] wall: final gathering %.5f, path %.5f (ratio %.4f)\n", gatherSum / 5, pathSum / 5,
+                gatherSum / pathSum);
+    EXPECT_NEAR(gatherSum / pathSum, 1.0, 0.04);
 }
 
 // The thesis's box ("Caixa"): a Cornell box with red and blue walls, a ceiling light and a
