@@ -18,6 +18,12 @@ PhotonMapIrradianceCacheIntegrator::PhotonMapIrradianceCacheIntegrator(const Pho
     : DirectIntegrator(settings.record.rayDepth, settings.lightSamples), settings_(settings), cache_(settings.record.accuracy) {
     settings_.photons.globalKeepsDirectAndCaustic = false;
     settings_.photons.rayDepth = settings.record.rayDepth;
+    // Uniform emission: a denser map turns more records from path-traced into photon records,
+    // whose density estimates read dark on thin and curved geometry; on Sponza the image went
+    // from 0.958 of the path tracer to 0.912 with the guide, and to 0.920 and 0.898 with 5 and
+    // 20 times the photons unguided. Until photon records are trusted only where their disc fits
+    // the surface, this cache keeps the thinner map.
+    settings_.photons.guideEmission = false;
 }
 
 PhotonMapIrradianceCacheIntegrator::Site PhotonMapIrradianceCacheIntegrator::siteOf(const ShadingPoint& sp) const {
