@@ -1,0 +1,279 @@
+// The mesh rules both hosts share (renderer/mesh_description.h): holes, orientation, primvar
+// interpolations (indexed or not), OpenSubdiv refinement with creases and corners, and a cage with
+// a warning when a subdivision mesh cannot be refined.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "renderer/mesh_description.h"
+
+using namespace gi;
+
+namespace {
+
+// A cube of side 2 centred at the origin, outward-facing counter-clockwise quads. Point i is at
+// (x, y, z) = (bit 0, bit 1, bit 2 of i) mapped {0, 1} -> {-1, +1}.
+MeshDescription cube(int refineLevel) {
+    MeshDescription m;
+    for (int i = 0; i < 8; ++i) m.points.push_back(Vec3(i & 1 ? 1.0f : -1.0f, i & 2 ? 1.0f : -1.0f, i & 4 ? 1.0f : -1.0f));
+    m.faceVertexCounts = {4, 4, 4, 4, 4, 4};
+    m.faceVertexIndices = {0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5};
+    m.refineLevel = refineLevel;
+    return m;
+}
+
+// A width x height grid of unit quads in the z = 0 plane, counter-clockwise seen from +z.
+MeshDescription grid(int width, int height) {
+    MeshDescription m;
+    for (int y = 0; y <= height; ++y)
+        for (int x = 0; x <= width; ++x) m.points.push_back(Vec3(float(x), float(y), 0));
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            int a = y * (width + 1) + x;
+            m.faceVertexCounts.push_back(4);
+            m.faceVertexIndices.insert(m.faceVertexIndices.end(), {a, a + 1, a + width + 2, a + width + 1});
+        }
+    m.subdivision.scheme = SubdivisionScheme::None;
+    return m;
+}
+
+Vec3 triangleNormal(const TriangleMesh& m, size_t t) {
+    Vec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]], c = m.positions[m.indices[3 * t + 2]];
+    return cross(b - a, c - a);
+}
+
+double area(const TriangleMesh& m) {
+    double sum = 0;
+    for (size_t t = 0; t < m.triangleCount(); ++t) sum += 0.5 * double(length(triangleNormal(m, t)));
+    return sum;
+}
+
+// Enclosed volume by the divergence theorem (positive for outward-facing triangles).
+double volume(const TriangleMesh& m) {
+    double sum = 0;
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        Vec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]], c = m.positions[m.indices[3 * t + 2]];
+        sum += double(dot(a, cross(b, c))) / 6.0;
+    }
+    return sum;
+}
+
+bool warned(const TessellatedMesh& t, const std::string& text) {
+    for (const std::string& w : t.warnings)
+        if (w.find(text) != std::string::npos) return true;
+    return false;
+}
+
+// The refined vertex at the centre of the cube's +z face, and the one on the +x+y+z diagonal.
+float faceCentreZ(const TriangleMesh& m) {
+    float z = -1;
+    for (const Vec3& p : m.positions)
+        if (std::fabs(p.x) < 1e-6f && std::fabs(p.y) < 1e-6f && p.z > 0) z = p.z;
+    return z;
+}
+float cornerX(const TriangleMesh& m) {
+    float x = -1;
+    for (const Vec3& p : m.positions)
+        if (p.x > 0 && std::fabs(p.x - p.y) < 1e-6f && std::fabs(p.x - p.z) < 1e-6f) x = p.x;
+    return x;
+}
+
+}  // namespace
+
+TEST(MeshDescription, HolesAreNotTriangulated) {
+    MeshDescription m = grid(3, 1);
+    m.holeIndices = {1};
+    TessellatedMesh t = tessellate(m);
+    ASSERT_EQ(t.mesh.triangleCount(), 4u);
+    for (int f : t.mesh.faces) EXPECT_NE(f, 1);
+    for (const Vec3& p : t.mesh.positions) EXPECT_FALSE(p.x > 1.0f && p.x < 2.0f);
+    m.holeIndices = {7};
+    EXPECT_TRUE(warned(tessellate(m), "holeIndices name no face"));
+}
+
+TEST(MeshDescription, HolesStayHolesWhenRefined) {
+    // A 3x3 Catmull-Clark grid with its centre face a hole: every level-2 child of it is left out.
+    MeshDescription m = grid(3, 3);
+    m.subdivision.scheme = SubdivisionScheme::CatmullClark;
+    m.refineLevel = 2;
+    m.holeIndices = {4};
+    TessellatedMesh t = tessellate(m);
+    ASSERT_TRUE(t.refined);
+    EXPECT_EQ(t.mesh.triangleCount(), 8u * 16u * 2u);  // 8 faces, 16 quads each, 2 triangles a quad
+    for (int f : t.mesh.faces) EXPECT_NE(f, 4);
+}
+
+TEST(MeshDescription, LeftHandedReversesTheWinding) {
+    for (bool left : {false, true}) {
+        MeshDescription m = grid(1, 1);
+        m.leftHanded = left;
+        TriangleMesh tri = tessellate(m).mesh;
+        ASSERT_EQ(tri.triangleCount(), 2u);
+        for (size_t t = 0; t < 2; ++t) EXPECT_FLOAT_EQ(normalize(triangleNormal(tri, t)).z, left ? -1.0f : 1.0f);
+    }
+    // A refined cube authored clockwise (leftHanded) still faces out: positive volume, outward normals.
+    MeshDescription m = cube(2);
+    for (size_t f = 0; f < 6; ++f) std::swap(m.faceVertexIndices[4 * f + 1], m.faceVertexIndices[4 * f + 3]);
+    m.leftHanded = true;
+    TriangleMesh tri = tessellate(m).mesh;
+    EXPECT_GT(volume(tri), 2.0);
+    for (size_t v = 0; v < tri.positions.size(); ++v) EXPECT_GT(dot(tri.normals[v], tri.positions[v]), 0.0f);
+}
+
+TEST(MeshDescription, IndexedFaceVaryingNormalsAreDeIndexedPerCorner) {
+    MeshDescription m = grid(1, 1);
+    m.normals = {"primvars:normals", {0, 0, 1, 0, 1, 0}, 3, Interpolation::FaceVarying, {0, 1, 0, 1}};
+    TriangleMesh tri = tessellate(m).mesh;
+    ASSERT_EQ(tri.positions.size(), 6u);  // one vertex per triangle corner
+    ASSERT_EQ(tri.normals.size(), 6u);
+    const int cornerOfVertex[6] = {0, 1, 2, 0, 2, 3};  // fans (0, 1, 2), (0, 2, 3)
+    for (size_t v = 0; v < 6; ++v) {
+        Vec3 expected = cornerOfVertex[v] % 2 == 0 ? Vec3(0, 0, 1) : Vec3(0, 1, 0);
+        EXPECT_EQ(tri.normals[v].y, expected.y) << v;
+        EXPECT_EQ(tri.normals[v].z, expected.z) << v;
+        EXPECT_EQ(tri.indices[v], uint32_t(v));
+    }
+    m.normals.indices = {0, 1, 0, 2};  // 2 names no value
+    TessellatedMesh bad = tessellate(m);
+    EXPECT_TRUE(warned(bad, "invalid indices"));
+    EXPECT_TRUE(bad.mesh.normals.empty());
+}
+
+TEST(MeshDescription, EveryPrimvarInterpolation) {
+    MeshDescription m = grid(2, 1);  // faces 0, 1; points 0..5
+    m.uvs = {"primvars:st", {0.25f, 0.5f, 0.75f, 0.5f}, 2, Interpolation::Uniform, {}};
+    TriangleMesh uniform = tessellate(m).mesh;
+    ASSERT_EQ(uniform.uvs.size(), 12u);
+    for (size_t v = 0; v < 12; ++v) EXPECT_EQ(uniform.uvs[v].x, uniform.faces[v / 3] == 0 ? 0.25f : 0.75f);
+
+    m.uvs = {"primvars:st", {0.5f, 0.125f}, 2, Interpolation::Constant, {}};
+    TriangleMesh constant = tessellate(m).mesh;
+    ASSERT_EQ(constant.uvs.size(), 6u);  // shared points: constant values do not split corners
+    for (const Vec2& uv : constant.uvs) EXPECT_EQ(uv.y, 0.125f);
+
+    std::vector<float> perPoint;
+    for (const Vec3& p : m.points) perPoint.insert(perPoint.end(), {p.x, p.y});
+    for (Interpolation i : {Interpolation::Vertex, Interpolation::Varying}) {
+        m.uvs = {"primvars:st", perPoint, 2, i, {}};
+        TriangleMesh tri = tessellate(m).mesh;
+        ASSERT_EQ(tri.uvs.size(), tri.positions.size());
+        for (size_t v = 0; v < tri.positions.size(); ++v) EXPECT_EQ(tri.uvs[v].x, tri.positions[v].x);
+    }
+    m.uvs = {"primvars:st", {0, 0, 1, 1}, 2, Interpolation::Vertex, {}};  // 2 values for 6 points
+    TessellatedMesh tooFew = tessellate(m);
+    EXPECT_TRUE(warned(tooFew, "'vertex' interpolation needs 6"));
+    EXPECT_TRUE(tooFew.mesh.uvs.empty());
+}
+
+// Catmull-Clark on a cube converges to its limit surface. Analytic anchors: the centre of a face
+// is a regular (valence-4) vertex from level 1 on, with limit z = 68/81 (the regular limit mask
+// (16 v + 4 sum(edge neighbours) + sum(diagonal neighbours)) / 36 applied to the level-1 points),
+// and by 4-fold symmetry its distance to it shrinks by the subdominant-but-one eigenvalue 1/4 per
+// level; a cube corner's limit point is (1/2, 1/2, 1/2) (the valence-3 mask (9 v + 4 sum e + sum f)
+// / 24). The limit solid is convex and contains the convex hull of its limit points: the unit cube
+// of the corners with a pyramid of height 68/81 - 1/2 on each face, volume 1 + 2 (68/81 - 1/2) and
+// area 24 * (1/2) * sqrt(1/4 + (68/81 - 1/2)^2); it lies inside every refined mesh (convex hull
+// property), so each level's volume and area are upper bounds and fall towards it.
+TEST(MeshDescription, SubdividedCubeConvergesToItsLimitSurface) {
+    const double zLimit = 68.0 / 81.0, h = zLimit - 0.5;
+    const double innerVolume = 1 + 2 * h, innerArea = 12 * std::sqrt(0.25 + h * h);
+    double previousVolume = 8, previousArea = 24, previousStep = 0, previousZError = 0;
+    for (int level = 1; level <= 5; ++level) {
+        TessellatedMesh t = tessellate(cube(level));
+        ASSERT_TRUE(t.refined);
+        EXPECT_TRUE(t.warnings.empty());
+        ASSERT_EQ(t.mesh.triangleCount(), size_t(6 * 2) << (2 * level));
+        double v = volume(t.mesh), a = area(t.mesh);
+        EXPECT_LT(v, previousVolume);
+        EXPECT_LT(a, previousArea);
+        EXPECT_GT(v, innerVolume);
+        EXPECT_GT(a, innerArea);
+        // A C2 surface's control mesh converges quadratically: each step a quarter of the last.
+        double step = previousVolume - v;
+        if (level >= 3) EXPECT_NEAR(step / previousStep, 0.25, 0.05) << level;
+        double zError = faceCentreZ(t.mesh) - zLimit;
+        EXPECT_GT(zError, 0);
+        if (level >= 2) EXPECT_NEAR(zError / previousZError, 0.25, 0.01) << level;
+        float corner = cornerX(t.mesh);
+        EXPECT_GT(corner, 0.5f);
+        EXPECT_LT(corner, level == 1 ? 5.0f / 9.0f + 1e-6f : 0.51f);  // 5/9: the level-1 vertex point
+        previousVolume = v, previousArea = a, previousStep = step, previousZError = zError;
+    }
+    EXPECT_NEAR(cornerX(tessellate(cube(5)).mesh), 0.5f, 1e-4f);
+    // Normals of the refined surface point away from the centre (they are computed, not authored).
+    TriangleMesh m = tessellate(cube(3)).mesh;
+    ASSERT_EQ(m.normals.size(), m.positions.size());
+    for (size_t v = 0; v < m.positions.size(); ++v) EXPECT_GT(dot(m.normals[v], normalize(m.positions[v])), 0.5f);
+}
+
+TEST(MeshDescription, CreasesAndCornersStaySharp) {
+    // The four edges round the +z face (points 4, 5, 7, 6) infinitely sharp: the face keeps its
+    // points at z = 1 (its limit is a plane patch) and meets the sides along a crease.
+    MeshDescription creased = cube(3);
+    creased.subdivision.creaseIndices = {4, 5, 7, 6, 4};
+    creased.subdivision.creaseLengths = {5};
+    creased.subdivision.creaseSharpnesses = {10};
+    TriangleMesh c = tessellate(creased).mesh;
+    float top = -1;
+    size_t onTop = 0;
+    for (const Vec3& p : c.positions) top = std::max(top, p.z), onTop += p.z > 1 - 1e-6f;
+    EXPECT_FLOAT_EQ(top, 1.0f);
+    EXPECT_GT(onTop, 50u);  // the top face's 9x9 level-3 points, less its rounded rim
+    EXPECT_LT(faceCentreZ(tessellate(cube(3)).mesh), 0.86f);  // smooth: the centre sinks to ~0.849
+    // Across the crease the surface folds: the triangles touching the rim of the flat top are
+    // either flat (normal +z) or steep (more than 45 degrees from +z), none in between.
+    size_t steep = 0, between = 0;
+    for (size_t t = 0; t < c.triangleCount(); ++t) {
+        bool touchesTop = false;
+        for (int k = 0; k < 3; ++k) touchesTop |= c.positions[c.indices[3 * t + k]].z > 1 - 1e-6f;
+        if (!touchesTop) continue;
+        float nz = normalize(triangleNormal(c, t)).z;
+        if (nz < 0.999f && nz > 0.7071f) ++between;
+        if (nz <= 0.7071f) ++steep;
+    }
+    EXPECT_GT(steep, 20u);
+    EXPECT_EQ(between, 0u);
+    // Per-edge sharpness (one value per crease edge) reads the same.
+    creased.subdivision.creaseSharpnesses = {10, 10, 10, 10};
+    EXPECT_FLOAT_EQ(faceCentreZ(tessellate(creased).mesh), 1.0f);
+    creased.subdivision.creaseSharpnesses = {10, 10};
+    EXPECT_TRUE(warned(tessellate(creased), "creases ignored"));
+
+    // An infinitely sharp corner at point 7 = (1, 1, 1): the surface passes through it.
+    MeshDescription cornered = cube(3);
+    cornered.subdivision.cornerIndices = {7};
+    cornered.subdivision.cornerSharpnesses = {10};
+    EXPECT_FLOAT_EQ(cornerX(tessellate(cornered).mesh), 1.0f);
+    EXPECT_LT(cornerX(tessellate(cube(3)).mesh), 0.51f);
+}
+
+TEST(MeshDescription, BadTopologyWarnsAndRendersTheCage) {
+    MeshDescription m = cube(2);
+    m.faceVertexIndices[3] = 42;  // face 0 names a point that does not exist
+    TessellatedMesh t = tessellate(m);
+    EXPECT_FALSE(t.refined);
+    EXPECT_TRUE(warned(t, "out-of-range point indices"));
+    EXPECT_TRUE(warned(t, "rendering the control mesh"));
+    EXPECT_EQ(t.mesh.triangleCount(), 10u);  // the five valid quads of the cage
+
+    MeshDescription loop = cube(2);
+    loop.subdivision.scheme = SubdivisionScheme::Loop;  // loop needs triangles
+    TessellatedMesh l = tessellate(loop);
+    EXPECT_FALSE(l.refined);
+    EXPECT_TRUE(warned(l, "loop subdivision needs triangles"));
+    EXPECT_EQ(l.mesh.triangleCount(), 12u);
+
+    MeshDescription nothing;
+    EXPECT_TRUE(warned(tessellate(nothing), "no points or no faces"));
+}
+
+TEST(MeshDescription, LevelZeroAndPolygonMeshesAreTheCage) {
+    for (SubdivisionScheme s : {SubdivisionScheme::CatmullClark, SubdivisionScheme::None}) {
+        MeshDescription m = cube(s == SubdivisionScheme::None ? 3 : 0);
+        m.subdivision.scheme = s;
+        TessellatedMesh t = tessellate(m);
+        EXPECT_FALSE(t.refined);
+        EXPECT_EQ(t.mesh.triangleCount(), 12u);
+        EXPECT_DOUBLE_EQ(volume(t.mesh), 8.0);
+    }
+}
