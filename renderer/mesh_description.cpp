@@ -46,10 +46,16 @@ TessellatedMesh tessellate(const MeshDescription& mesh) {
     MeshCounts counts{mesh.points.size(), mesh.faceVertexCounts.size(), mesh.faceVertexIndices.size()};
     std::optional<CheckedPrimvar> uvs = checkPrimvar(mesh.uvs, 2, counts, warnings);
 
-    bool subdivide = mesh.subdivision.scheme != SubdivisionScheme::None && mesh.refineLevel > 0;
+    SubdivisionScheme scheme = subdivisionScheme(mesh.subdivision.scheme, warnings);
+    bool leftHanded = mesh.orientation == "leftHanded";
+    if (!leftHanded && mesh.orientation != "rightHanded")
+        warnings.push_back("orientation '" + mesh.orientation + "' is not a valid token; using rightHanded");
+    bool subdivide = scheme != SubdivisionScheme::None && mesh.refineLevel > 0;
     if (subdivide) {
         if (std::all_of(usable.begin(), usable.end(), [](char u) { return u != 0; })) {
-            if (std::optional<Polygons> refined = refineSubdivision(mesh, hole, uvs, warnings)) {
+            if (std::optional<Polygons> refined = refineSubdivision(mesh, scheme, hole, uvs, warnings)) {
+                refined->leftHanded = leftHanded;
+                refined->normals = smoothNormals(*refined);
                 out.mesh = triangulate(*refined);
                 out.refined = true;
                 return out;
@@ -64,7 +70,7 @@ TessellatedMesh tessellate(const MeshDescription& mesh) {
     polygons.points = mesh.points;
     polygons.counts = mesh.faceVertexCounts;
     polygons.indices = mesh.faceVertexIndices;
-    polygons.leftHanded = mesh.leftHanded;
+    polygons.leftHanded = leftHanded;
     polygons.sourceFace.resize(mesh.faceVertexCounts.size());
     polygons.rendered.resize(mesh.faceVertexCounts.size());
     for (size_t f = 0; f < polygons.sourceFace.size(); ++f) {

@@ -12,7 +12,8 @@
 
 namespace gi {
 
-enum class Interpolation { Constant, Uniform, Varying, Vertex, FaceVarying };
+// Tokens are UsdGeomMesh's (and Hydra's, which are the same words); an unknown one is a warning
+// and its attribute's fallback.
 
 // A primvar's values, `width` floats each; `indices` (optional) index them per element, as USD's
 // indexed primvars do. `name` is for warnings ("primvars:st").
@@ -20,21 +21,17 @@ struct MeshPrimvar {
     std::string name;
     std::vector<float> values;
     int width = 3;
-    Interpolation interpolation = Interpolation::Vertex;
+    std::string interpolation = "vertex";  // constant, uniform, varying, vertex or faceVarying
     std::vector<int> indices;
     bool authored() const { return !values.empty(); }
 };
 
-enum class SubdivisionScheme { None, CatmullClark, Loop, Bilinear };
-// UsdGeomMesh's interpolateBoundary and faceVaryingLinearInterpolation tokens.
-enum class BoundaryInterpolation { None, EdgeOnly, EdgeAndCorner };
-enum class FaceVaryingInterpolation { None, CornersOnly, CornersPlus1, CornersPlus2, Boundaries, All };
-
 struct SubdivisionRules {
-    SubdivisionScheme scheme = SubdivisionScheme::CatmullClark;  // UsdGeomMesh's default
-    BoundaryInterpolation boundary = BoundaryInterpolation::EdgeAndCorner;
-    FaceVaryingInterpolation faceVarying = FaceVaryingInterpolation::CornersPlus1;
-    bool smoothTriangles = false;  // triangleSubdivisionRule = "smooth"
+    std::string scheme = "catmullClark";  // catmullClark, loop, bilinear or none (a polygon mesh)
+    std::string interpolateBoundary = "edgeAndCorner";            // none, edgeOnly, edgeAndCorner
+    std::string faceVaryingLinearInterpolation = "cornersPlus1";  // none, cornersOnly, cornersPlus1,
+                                                                  // cornersPlus2, boundaries, all
+    std::string triangleSubdivisionRule = "catmullClark";         // catmullClark or smooth
     // creaseIndices are chains of points, creaseLengths long each; creaseSharpnesses holds one
     // sharpness per chain or one per edge of the chains.
     std::vector<int> creaseIndices, creaseLengths;
@@ -46,12 +43,12 @@ struct SubdivisionRules {
 struct MeshDescription {
     std::vector<Vec3> points;
     std::vector<int> faceVertexCounts, faceVertexIndices, holeIndices;
-    bool leftHanded = false;
+    std::string orientation = "rightHanded";  // or leftHanded
     MeshPrimvar normals;  // ignored on refined surfaces: their normals come from the refined mesh
     MeshPrimvar uvs;      // width 2
     SubdivisionRules subdivision;
     // Uniform refinement levels for subdivision schemes (0: the control cage, as UsdImaging's
-    // lowest complexity); polygon meshes (scheme None) are never refined.
+    // lowest complexity); polygon meshes (scheme none) are never refined.
     int refineLevel = 0;
 };
 

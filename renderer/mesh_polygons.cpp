@@ -99,6 +99,29 @@ void fanTriangles(const Polygons& polygons, std::vector<int>& slots, std::vector
     }
 }
 
+// Area-weighted normals of the rendered polygons' fan triangles, per point.
+PolygonAttribute smoothNormals(const Polygons& polygons) {
+    std::vector<int> slots, polygonOfTriangle;
+    fanTriangles(polygons, slots, polygonOfTriangle);
+    std::vector<Vec3> sum(polygons.points.size(), Vec3(0.0f));
+    for (size_t t = 0; t + 2 < slots.size(); t += 3) {
+        int a = polygons.indices[size_t(slots[t])], b = polygons.indices[size_t(slots[t + 1])],
+            c = polygons.indices[size_t(slots[t + 2])];
+        Vec3 face = cross(polygons.points[size_t(b)] - polygons.points[size_t(a)],
+                          polygons.points[size_t(c)] - polygons.points[size_t(a)]);
+        sum[size_t(a)] += face, sum[size_t(b)] += face, sum[size_t(c)] += face;
+    }
+    PolygonAttribute out;
+    out.width = 3;
+    out.values.reserve(sum.size() * 3);
+    for (const Vec3& s : sum) {
+        float len = length(s);
+        Vec3 n = len > 0 && std::isfinite(len) ? s / len : Vec3(0, 0, 1);  // unused points only
+        out.values.insert(out.values.end(), {n.x, n.y, n.z});
+    }
+    return out;
+}
+
 namespace {
 
 void appendValue(const PolygonAttribute& a, size_t slot, size_t point, std::vector<Vec3>& out) {

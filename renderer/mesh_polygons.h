@@ -41,6 +41,10 @@ PolygonAttribute expandPrimvar(const CheckedPrimvar& primvar, const std::vector<
 // takes counter-clockwise triangles): as slots of `indices`, and the polygon of each triangle.
 void fanTriangles(const Polygons& polygons, std::vector<int>& slots, std::vector<int>& polygonOfTriangle);
 
+// Per-point normals of a refined surface: the area-weighted normals of the rendered polygons' fan
+// triangles (as Hydra computes them for refined meshes).
+PolygonAttribute smoothNormals(const Polygons& polygons);
+
 TriangleMesh triangulate(const Polygons& polygons);
 
 }  // namespace gi

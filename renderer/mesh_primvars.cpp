@@ -6,15 +6,13 @@ namespace gi {
 
 namespace {
 
-const char* interpolationName(Interpolation i) {
-    switch (i) {
-        case Interpolation::Constant: return "constant";
-        case Interpolation::Uniform: return "uniform";
-        case Interpolation::Varying: return "varying";
-        case Interpolation::Vertex: return "vertex";
-        case Interpolation::FaceVarying: return "faceVarying";
-    }
-    return "?";
+std::optional<Interpolation> interpolationFromToken(const std::string& token) {
+    if (token == "constant") return Interpolation::Constant;
+    if (token == "uniform") return Interpolation::Uniform;
+    if (token == "varying") return Interpolation::Varying;
+    if (token == "vertex") return Interpolation::Vertex;
+    if (token == "faceVarying") return Interpolation::FaceVarying;
+    return std::nullopt;
 }
 
 size_t elementsNeeded(Interpolation i, const MeshCounts& counts) {
@@ -43,6 +41,11 @@ std::optional<CheckedPrimvar> checkPrimvar(const MeshPrimvar& primvar, int width
             warnings.push_back(name + " has NaN/Inf values; ignored");
             return std::nullopt;
         }
+    std::optional<Interpolation> interpolation = interpolationFromToken(primvar.interpolation);
+    if (!interpolation) {
+        warnings.push_back(name + " has unsupported interpolation '" + primvar.interpolation + "'; ignored");
+        return std::nullopt;
+    }
     size_t valueCount = primvar.values.size() / size_t(width);
     bool indexed = !primvar.indices.empty();
     for (int i : primvar.indices)
@@ -52,17 +55,17 @@ std::optional<CheckedPrimvar> checkPrimvar(const MeshPrimvar& primvar, int width
             return std::nullopt;
         }
     size_t available = indexed ? primvar.indices.size() : valueCount;
-    size_t needed = elementsNeeded(primvar.interpolation, counts);
+    size_t needed = elementsNeeded(*interpolation, counts);
     if (available < needed) {
         warnings.push_back(name + " has " + std::to_string(available) + (indexed ? " indices" : " values") +
-                           " but its '" + interpolationName(primvar.interpolation) + "' interpolation needs " +
+                           " but its '" + primvar.interpolation + "' interpolation needs " +
                            std::to_string(needed) + "; ignored");
         return std::nullopt;
     }
     CheckedPrimvar out;
     out.values = primvar.values;
     out.width = width;
-    out.interpolation = primvar.interpolation;
+    out.interpolation = *interpolation;
     out.index.resize(needed);  // extra elements (more than the interpolation uses) are left out
     for (size_t e = 0; e < needed; ++e) out.index[e] = indexed ? primvar.indices[e] : int(e);
     return out;

@@ -9,6 +9,8 @@
 
 namespace gi {
 
+enum class Interpolation { Constant, Uniform, Varying, Vertex, FaceVarying };
+
 // Element counts each interpolation needs.
 struct MeshCounts {
     size_t points = 0, faces = 0, corners = 0;  // corners: faceVertexIndices' length

@@ -31,23 +31,32 @@ Osd::Sdc::SchemeType schemeType(SubdivisionScheme s) {
     }
 }
 
-Osd::Sdc::Options schemeOptions(const SubdivisionRules& rules) {
+// The enumerator `token` names among `names` (tokens) / `values`; else a warning and `fallback`.
+template <typename T, size_t N>
+T fromToken(const std::string& attribute, const std::string& token, const char* const (&names)[N], const T (&values)[N],
+            T fallback, std::vector<std::string>& warnings) {
+    for (size_t i = 0; i < N; ++i)
+        if (token == names[i]) return values[i];
+    warnings.push_back(attribute + " '" + token + "' is not a valid token; using its fallback");
+    return fallback;
+}
+
+Osd::Sdc::Options schemeOptions(const SubdivisionRules& rules, std::vector<std::string>& warnings) {
     using O = Osd::Sdc::Options;
     O options;
-    options.SetVtxBoundaryInterpolation(rules.boundary == BoundaryInterpolation::None       ? O::VTX_BOUNDARY_NONE
-                                        : rules.boundary == BoundaryInterpolation::EdgeOnly ? O::VTX_BOUNDARY_EDGE_ONLY
-                                                                                            : O::VTX_BOUNDARY_EDGE_AND_CORNER);
-    O::FVarLinearInterpolation fvar = O::FVAR_LINEAR_CORNERS_PLUS1;
-    switch (rules.faceVarying) {
-        case FaceVaryingInterpolation::None: fvar = O::FVAR_LINEAR_NONE; break;
-        case FaceVaryingInterpolation::CornersOnly: fvar = O::FVAR_LINEAR_CORNERS_ONLY; break;
-        case FaceVaryingInterpolation::CornersPlus1: fvar = O::FVAR_LINEAR_CORNERS_PLUS1; break;
-        case FaceVaryingInterpolation::CornersPlus2: fvar = O::FVAR_LINEAR_CORNERS_PLUS2; break;
-        case FaceVaryingInterpolation::Boundaries: fvar = O::FVAR_LINEAR_BOUNDARIES; break;
-        case FaceVaryingInterpolation::All: fvar = O::FVAR_LINEAR_ALL; break;
-    }
-    options.SetFVarLinearInterpolation(fvar);
-    if (rules.smoothTriangles) options.SetTriangleSubdivision(O::TRI_SUB_SMOOTH);
+    options.SetVtxBoundaryInterpolation(
+        fromToken("interpolateBoundary", rules.interpolateBoundary, {"none", "edgeOnly", "edgeAndCorner"},
+                  {O::VTX_BOUNDARY_NONE, O::VTX_BOUNDARY_EDGE_ONLY, O::VTX_BOUNDARY_EDGE_AND_CORNER},
+                  O::VTX_BOUNDARY_EDGE_AND_CORNER, warnings));
+    options.SetFVarLinearInterpolation(fromToken(
+        "faceVaryingLinearInterpolation", rules.faceVaryingLinearInterpolation,
+        {"none", "cornersOnly", "cornersPlus1", "cornersPlus2", "boundaries", "all"},
+        {O::FVAR_LINEAR_NONE, O::FVAR_LINEAR_CORNERS_ONLY, O::FVAR_LINEAR_CORNERS_PLUS1, O::FVAR_LINEAR_CORNERS_PLUS2,
+         O::FVAR_LINEAR_BOUNDARIES, O::FVAR_LINEAR_ALL},
+        O::FVAR_LINEAR_CORNERS_PLUS1, warnings));
+    options.SetTriangleSubdivision(fromToken("triangleSubdivisionRule", rules.triangleSubdivisionRule,
+                                             {"catmullClark", "smooth"}, {O::TRI_SUB_CATMARK, O::TRI_SUB_SMOOTH},
+                                             O::TRI_SUB_CATMARK, warnings));
     return options;
 }
 
@@ -122,35 +131,19 @@ void sharpCorners(const MeshDescription& mesh, std::vector<int>& corners, std::v
     if (bad) warnings.push_back(std::to_string(bad) + " cornerIndices out of range; ignored");
 }
 
-// Area-weighted normals of the rendered polygons' fan triangles, per point.
-std::vector<float> smoothNormals(const Polygons& polygons) {
-    std::vector<int> slots, polygonOfTriangle;
-    fanTriangles(polygons, slots, polygonOfTriangle);
-    std::vector<Vec3> sum(polygons.points.size(), Vec3(0.0f));
-    for (size_t t = 0; t + 2 < slots.size(); t += 3) {
-        int a = polygons.indices[size_t(slots[t])], b = polygons.indices[size_t(slots[t + 1])],
-            c = polygons.indices[size_t(slots[t + 2])];
-        Vec3 face = cross(polygons.points[size_t(b)] - polygons.points[size_t(a)],
-                          polygons.points[size_t(c)] - polygons.points[size_t(a)]);
-        sum[size_t(a)] += face, sum[size_t(b)] += face, sum[size_t(c)] += face;
-    }
-    std::vector<float> out;
-    out.reserve(sum.size() * 3);
-    for (const Vec3& s : sum) {
-        float len = length(s);
-        Vec3 n = len > 0 && std::isfinite(len) ? s / len : Vec3(0, 0, 1);  // unused points only
-        out.insert(out.end(), {n.x, n.y, n.z});
-    }
-    return out;
-}
-
 }  // namespace
 
-std::optional<Polygons> refineSubdivision(const MeshDescription& mesh, const std::vector<char>& hole,
-                                          const std::optional<CheckedPrimvar>& uvs,
+SubdivisionScheme subdivisionScheme(const std::string& token, std::vector<std::string>& warnings) {
+    return fromToken("subdivisionScheme", token, {"none", "catmullClark", "loop", "bilinear"},
+                     {SubdivisionScheme::None, SubdivisionScheme::CatmullClark, SubdivisionScheme::Loop,
+                      SubdivisionScheme::Bilinear},
+                     SubdivisionScheme::None, warnings);
+}
+
+std::optional<Polygons> refineSubdivision(const MeshDescription& mesh, SubdivisionScheme scheme,
+                                          const std::vector<char>& hole, const std::optional<CheckedPrimvar>& uvs,
                                           std::vector<std::string>& warnings) {
-    const SubdivisionRules& rules = mesh.subdivision;
-    if (rules.scheme == SubdivisionScheme::Loop)
+    if (scheme == SubdivisionScheme::Loop)
         for (int n : mesh.faceVertexCounts)
             if (n != 3) {
                 warnings.push_back("loop subdivision needs triangles only; rendering the control mesh");
@@ -187,7 +180,7 @@ std::optional<Polygons> refineSubdivision(const MeshDescription& mesh, const std
 
     using Factory = Osd::Far::TopologyRefinerFactory<Osd::Far::TopologyDescriptor>;
     std::unique_ptr<Osd::Far::TopologyRefiner> refiner(
-        Factory::Create(desc, Factory::Options(schemeType(rules.scheme), schemeOptions(rules))));
+        Factory::Create(desc, Factory::Options(schemeType(scheme), schemeOptions(mesh.subdivision, warnings))));
     if (!refiner) {
         warnings.push_back("OpenSubdiv rejected the topology; rendering the control mesh");
         return std::nullopt;
@@ -239,7 +232,6 @@ std::optional<Polygons> refineSubdivision(const MeshDescription& mesh, const std
 
     const Osd::Far::TopologyLevel& last = refiner->GetLevel(level);
     Polygons out;
-    out.leftHanded = mesh.leftHanded;
     for (int v = 0; v < last.GetNumVertices(); ++v) out.points.push_back(Vec3(pointSrc[v].v[0], pointSrc[v].v[1], pointSrc[v].v[2]));
     if (uvs) out.uvs.width = 2;
     out.uvs.perCorner = uvs && !pointUvs && uvs->interpolation != Interpolation::Constant;
@@ -260,8 +252,6 @@ std::optional<Polygons> refineSubdivision(const MeshDescription& mesh, const std
         for (size_t v = 0; v < out.points.size(); ++v) out.uvs.values.insert(out.uvs.values.end(), uvSrc[v].v, uvSrc[v].v + 2);
     else if (uvs && uvs->interpolation == Interpolation::Constant)
         for (size_t v = 0; v < out.points.size(); ++v) out.uvs.values.insert(out.uvs.values.end(), uvs->element(0), uvs->element(0) + 2);
-    out.normals.width = 3;
-    out.normals.values = smoothNormals(out);
     return out;
 }
 

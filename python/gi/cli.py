@@ -14,6 +14,12 @@ from .errors import DenoiserMissing, SceneError
 
 PARAM_TYPES = {"int": int, "float": float}
 
+# usdrecord's --complexity and the refine level UsdImaging gives subdivision meshes for it
+# (UsdImagingGLEngine's _GetRefineLevel of RefinementComplexities 1.0, 1.1, 1.2, 1.3); low, the
+# control cage, is usdrecord's default (UsdAppUtils.complexityArgs) and UsdImagingGLRenderParams'.
+COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
+DEFAULT_COMPLEXITY = "low"
+
 
 def kebab(name):
     """pathDepth -> path-depth"""
@@ -152,10 +158,10 @@ def render_loaded(loaded, settings, label, show_progress=False, camera=None, pro
 
 
 def render_scene(scene_path, integrator="path", params=None, spp=16, seed=0, threads=0, time_limit=0.0,
-                 resolution=None, camera=None, show_progress=False, pixel_filter="box"):
+                 resolution=None, camera=None, show_progress=False, pixel_filter="box", refine_level=0):
     """Loads and renders a scene; returns (result, loaded scene, settings)."""
     from .loader import load_stage
-    loaded = load_stage(scene_path, camera=camera)
+    loaded = load_stage(scene_path, camera=camera, refine_level=refine_level)
     settings = render_settings(loaded, integrator, params, spp, seed, threads, time_limit, resolution,
                                pixel_filter)
     result = render_loaded(loaded, settings, f"{Path(scene_path).name} [{integrator}]", show_progress)
@@ -167,6 +173,7 @@ def exr_metadata(args, params, result, loaded, wall_seconds, frame=None, seed=No
     return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": loaded.camera_path,
             "gi:integrator": result.integrator or args.integrator, "gi:auto": result.auto_summary,
             "gi:spp": str(result.spp), "gi:seed": str(args.seed if seed is None else seed),
+            "gi:complexity": getattr(args, "complexity", DEFAULT_COMPLEXITY),
             "gi:frame": "earliest time" if frame is None else str(frame),
             "gi:params": json.dumps(params, sort_keys=True), "gi:preset": args.preset or "",
             "gi:seconds": f"{result.stats.get('seconds', wall_seconds):.3f}",
@@ -228,6 +235,9 @@ def add_render_parser(commands, flags):
     render.add_argument("--allow-missing", action="store_true",
                         help="render a stage whose sublayers, references or payloads cannot all be found "
                              "(default: an error naming them)")
+    render.add_argument("--complexity", default=DEFAULT_COMPLEXITY, choices=list(COMPLEXITY_REFINE_LEVELS),
+                        help="subdivision meshes refined 0, 1, 2 or 3 times with OpenSubdiv, as usdrecord's "
+                             f"--complexity (default {DEFAULT_COMPLEXITY}, as usdrecord's: the control cage)")
     render.add_argument("--settings", metavar="PRIM",
                         help="the RenderSettings prim whose RenderProducts are written when -o is not given "
                              "(default: the stage's renderSettingsPrimPath, else the first)")

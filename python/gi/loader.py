@@ -94,8 +94,9 @@ def open_stage(path, allow_missing=False):
 class StageLoader:
     """One pass over a stage, adding what it finds to `scene`."""
 
-    def __init__(self, stage, scene, time, file):
+    def __init__(self, stage, scene, time, file, refine_level=0):
         self.stage, self.scene, self.time, self.file = stage, scene, time, file
+        self.refine_level = refine_level
         self.xforms = UsdGeom.XformCache(time)
         self.warnings = []
         self.materials = MaterialLibrary(scene, time, self.warn)
@@ -180,7 +181,7 @@ class StageLoader:
             mesh = UsdGeom.Mesh(prim)
             subsets = self.material_subsets(mesh)
             subsets, uv_names = self.subset_materials(subsets, material, uv_names)
-            triangles = mesh_triangles(mesh, self.time, warn, uv_names)
+            triangles = mesh_triangles(mesh, self.time, warn, uv_names, self.refine_level)
         else:
             triangles = implicit_triangles(prim, self.time, warn)
         if triangles is None:
@@ -200,7 +201,7 @@ class StageLoader:
     def pieces(name, material, triangles, subsets):
         """(piece name, material, Triangles) for each non-empty piece: the faces in no subset under
         the mesh's name and material, then each subset's faces under its own path and material."""
-        if not subsets:
+        if not subsets or len(triangles.faces) == 0:
             return [(name, material, triangles)]
         piece_of_face = np.zeros(int(triangles.faces.max()) + 1, np.int64)
         for piece, subset in enumerate(subsets, start=1):
@@ -456,7 +457,8 @@ def camera_at(stage, camera_path, time):
                        as_time_code(time))
 
 
-def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missing=False) -> LoadedScene:
+def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missing=False,
+               refine_level=0) -> LoadedScene:
     """Loads the USD file `path` into `scene` (a new gi._core.Scene if None).
 
     camera: a camera prim path overriding the render settings' camera.
@@ -464,12 +466,14 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
     stage: the stage of `path` when it is open already (each frame of a sequence reads it).
     allow_missing: render a stage whose sublayers, references or payloads cannot all be found (each
     is a warning) instead of raising SceneError naming them.
+    refine_level: how many times subdivision meshes are refined (0: their control cage; see
+    cli.COMPLEXITY_REFINE_LEVELS).
     Raises SceneError naming the file when it is missing or not USD."""
     file = str(path)
     stage = stage if stage is not None else open_stage(file, allow_missing)
     scene = scene if scene is not None else descriptors.new_scene()
     time = as_time_code(time)
-    loader = StageLoader(stage, scene, time, file)
+    loader = StageLoader(stage, scene, time, file, refine_level)
     for message in missing_layers(stage):
         loader.warn("/", f"not found, rendered without it: {message}")
     loader.load()

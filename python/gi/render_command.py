@@ -5,7 +5,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from .cli import exr_metadata, progress_bar, render_loaded, render_settings, require_core, summary, warn
+from .cli import COMPLEXITY_REFINE_LEVELS, exr_metadata, progress_bar, render_loaded, render_settings, require_core, summary, warn
 
 
 def check_frame_names(args, parser, pattern, flag):
@@ -98,7 +98,8 @@ def cmd_render(args, flags, parser):
         from .denoise import open_denoiser
         denoiser = open_denoiser(args.threads)
     frames = args.frames or [None]
-    sequence = Sequence(args.scene, frames, camera=args.camera, allow_missing=args.allow_missing)
+    sequence = Sequence(args.scene, frames, camera=args.camera, allow_missing=args.allow_missing,
+                        refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity])
     for message in sequence.warnings:
         warn(message)
     targets = render_targets(args, parser, sequence)

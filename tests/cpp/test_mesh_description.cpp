@@ -33,7 +33,7 @@ MeshDescription grid(int width, int height) {
             m.faceVertexCounts.push_back(4);
             m.faceVertexIndices.insert(m.faceVertexIndices.end(), {a, a + 1, a + width + 2, a + width + 1});
         }
-    m.subdivision.scheme = SubdivisionScheme::None;
+    m.subdivision.scheme = "none";
     return m;
 }
 
@@ -94,7 +94,7 @@ TEST(MeshDescription, HolesAreNotTriangulated) {
 TEST(MeshDescription, HolesStayHolesWhenRefined) {
     // A 3x3 Catmull-Clark grid with its centre face a hole: every level-2 child of it is left out.
     MeshDescription m = grid(3, 3);
-    m.subdivision.scheme = SubdivisionScheme::CatmullClark;
+    m.subdivision.scheme = "catmullClark";
     m.refineLevel = 2;
     m.holeIndices = {4};
     TessellatedMesh t = tessellate(m);
@@ -106,7 +106,7 @@ TEST(MeshDescription, HolesStayHolesWhenRefined) {
 TEST(MeshDescription, LeftHandedReversesTheWinding) {
     for (bool left : {false, true}) {
         MeshDescription m = grid(1, 1);
-        m.leftHanded = left;
+        m.orientation = left ? "leftHanded" : "rightHanded";
         TriangleMesh tri = tessellate(m).mesh;
         ASSERT_EQ(tri.triangleCount(), 2u);
         for (size_t t = 0; t < 2; ++t) EXPECT_FLOAT_EQ(normalize(triangleNormal(tri, t)).z, left ? -1.0f : 1.0f);
@@ -114,7 +114,7 @@ TEST(MeshDescription, LeftHandedReversesTheWinding) {
     // A refined cube authored clockwise (leftHanded) still faces out: positive volume, outward normals.
     MeshDescription m = cube(2);
     for (size_t f = 0; f < 6; ++f) std::swap(m.faceVertexIndices[4 * f + 1], m.faceVertexIndices[4 * f + 3]);
-    m.leftHanded = true;
+    m.orientation = "leftHanded";
     TriangleMesh tri = tessellate(m).mesh;
     EXPECT_GT(volume(tri), 2.0);
     for (size_t v = 0; v < tri.positions.size(); ++v) EXPECT_GT(dot(tri.normals[v], tri.positions[v]), 0.0f);
@@ -122,7 +122,7 @@ TEST(MeshDescription, LeftHandedReversesTheWinding) {
 
 TEST(MeshDescription, IndexedFaceVaryingNormalsAreDeIndexedPerCorner) {
     MeshDescription m = grid(1, 1);
-    m.normals = {"primvars:normals", {0, 0, 1, 0, 1, 0}, 3, Interpolation::FaceVarying, {0, 1, 0, 1}};
+    m.normals = {"primvars:normals", {0, 0, 1, 0, 1, 0}, 3, "faceVarying", {0, 1, 0, 1}};
     TriangleMesh tri = tessellate(m).mesh;
     ASSERT_EQ(tri.positions.size(), 6u);  // one vertex per triangle corner
     ASSERT_EQ(tri.normals.size(), 6u);
@@ -141,25 +141,25 @@ TEST(MeshDescription, IndexedFaceVaryingNormalsAreDeIndexedPerCorner) {
 
 TEST(MeshDescription, EveryPrimvarInterpolation) {
     MeshDescription m = grid(2, 1);  // faces 0, 1; points 0..5
-    m.uvs = {"primvars:st", {0.25f, 0.5f, 0.75f, 0.5f}, 2, Interpolation::Uniform, {}};
+    m.uvs = {"primvars:st", {0.25f, 0.5f, 0.75f, 0.5f}, 2, "uniform", {}};
     TriangleMesh uniform = tessellate(m).mesh;
     ASSERT_EQ(uniform.uvs.size(), 12u);
     for (size_t v = 0; v < 12; ++v) EXPECT_EQ(uniform.uvs[v].x, uniform.faces[v / 3] == 0 ? 0.25f : 0.75f);
 
-    m.uvs = {"primvars:st", {0.5f, 0.125f}, 2, Interpolation::Constant, {}};
+    m.uvs = {"primvars:st", {0.5f, 0.125f}, 2, "constant", {}};
     TriangleMesh constant = tessellate(m).mesh;
     ASSERT_EQ(constant.uvs.size(), 6u);  // shared points: constant values do not split corners
     for (const Vec2& uv : constant.uvs) EXPECT_EQ(uv.y, 0.125f);
 
     std::vector<float> perPoint;
     for (const Vec3& p : m.points) perPoint.insert(perPoint.end(), {p.x, p.y});
-    for (Interpolation i : {Interpolation::Vertex, Interpolation::Varying}) {
+    for (const char* i : {"vertex", "varying"}) {
         m.uvs = {"primvars:st", perPoint, 2, i, {}};
         TriangleMesh tri = tessellate(m).mesh;
         ASSERT_EQ(tri.uvs.size(), tri.positions.size());
         for (size_t v = 0; v < tri.positions.size(); ++v) EXPECT_EQ(tri.uvs[v].x, tri.positions[v].x);
     }
-    m.uvs = {"primvars:st", {0, 0, 1, 1}, 2, Interpolation::Vertex, {}};  // 2 values for 6 points
+    m.uvs = {"primvars:st", {0, 0, 1, 1}, 2, "vertex", {}};  // 2 values for 6 points
     TessellatedMesh tooFew = tessellate(m);
     EXPECT_TRUE(warned(tooFew, "'vertex' interpolation needs 6"));
     EXPECT_TRUE(tooFew.mesh.uvs.empty());
@@ -257,19 +257,28 @@ TEST(MeshDescription, BadTopologyWarnsAndRendersTheCage) {
     EXPECT_EQ(t.mesh.triangleCount(), 10u);  // the five valid quads of the cage
 
     MeshDescription loop = cube(2);
-    loop.subdivision.scheme = SubdivisionScheme::Loop;  // loop needs triangles
+    loop.subdivision.scheme = "loop";  // loop needs triangles
     TessellatedMesh l = tessellate(loop);
     EXPECT_FALSE(l.refined);
     EXPECT_TRUE(warned(l, "loop subdivision needs triangles"));
     EXPECT_EQ(l.mesh.triangleCount(), 12u);
+
+    MeshDescription unknown = cube(2);
+    unknown.subdivision.scheme = "catmullclark";  // misspelt: a polygon mesh, with a warning
+    unknown.orientation = "left";
+    TessellatedMesh u = tessellate(unknown);
+    EXPECT_FALSE(u.refined);
+    EXPECT_TRUE(warned(u, "subdivisionScheme 'catmullclark' is not a valid token"));
+    EXPECT_TRUE(warned(u, "orientation 'left'"));
+    EXPECT_DOUBLE_EQ(volume(u.mesh), 8.0);
 
     MeshDescription nothing;
     EXPECT_TRUE(warned(tessellate(nothing), "no points or no faces"));
 }
 
 TEST(MeshDescription, LevelZeroAndPolygonMeshesAreTheCage) {
-    for (SubdivisionScheme s : {SubdivisionScheme::CatmullClark, SubdivisionScheme::None}) {
-        MeshDescription m = cube(s == SubdivisionScheme::None ? 3 : 0);
+    for (std::string s : {"catmullClark", "none"}) {
+        MeshDescription m = cube(s == "none" ? 3 : 0);
         m.subdivision.scheme = s;
         TessellatedMesh t = tessellate(m);
         EXPECT_FALSE(t.refined);
