@@ -28,17 +28,6 @@ class Triangles:
         return Triangles(fix(self.positions, np.float32), fix(self.indices, np.uint32),
                          fix(self.normals, np.float32), fix(self.uvs, np.float32), fix(self.faces, np.int64))
 
-    def select(self, which):
-        """The triangles `which` selects (a boolean mask or triangle numbers), over only the vertices
-        they use (normals and uvs are per vertex, so they follow the vertices)."""
-        indices = np.asarray(self.indices)[which]
-        used, compact = np.unique(indices, return_inverse=True)
-
-        def take(a):
-            return None if a is None else a[used]
-        return Triangles(self.positions[used], compact.reshape(-1, 3), take(self.normals), take(self.uvs),
-                         None if self.faces is None else self.faces[which]).contiguous()
-
 
 # -- polygon and subdivision meshes -------------------------------------------------------------
 # The rules (usable faces, holes, orientation, primvar interpolation, OpenSubdiv refinement) are the
@@ -112,25 +101,32 @@ def subdivision_rules(mesh, time):
     return rules
 
 
-def mesh_triangles(mesh: UsdGeom.Mesh, time, warn, uv_names=(), refine_level=0) -> Optional[Triangles]:
-    """The mesh's triangles (refined `refine_level` times if it is a subdivision surface), or None
-    (with a warning) if none remain; `faces` holds the authored face index of each triangle (what
-    GeomSubset indices refer to)."""
+def mesh_triangles(mesh: UsdGeom.Mesh, time, warn, uv_names=(), refine_level=0, subset_faces=()):
+    """The mesh's triangles (refined `refine_level` times if it is a subdivision surface) in pieces:
+    first the faces in none of `subset_faces` (lists of authored faces, disjoint), then each
+    subset's; an empty piece is None, and the whole is None if no triangle remains (a warning says
+    why when something was wrong). Each piece's `faces` holds its triangles' authored faces."""
     points = np.asarray(mesh.GetPointsAttr().Get(time) or [], dtype=np.float32).reshape(-1, 3)
+    counts = int_array(mesh.GetFaceVertexCountsAttr(), time)
     try:
         from ._core import tessellate_mesh
     except ImportError:  # no compiled renderer (gi inspect): the mesh is counted, not tessellated
-        return Triangles(points, np.zeros((0, 3), np.uint32), faces=np.zeros(0, np.int64))
-    out = tessellate_mesh(np.ascontiguousarray(points), int_array(mesh.GetFaceVertexCountsAttr(), time),
-                          int_array(mesh.GetFaceVertexIndicesAttr(), time),
+        return [Triangles(points, np.zeros((0, 3), np.uint32), faces=np.zeros(0, np.int64))]
+    piece_of_face = None
+    if len(subset_faces):
+        piece_of_face = np.zeros(len(counts), np.int32)
+        for piece, faces in enumerate(subset_faces, start=1):
+            piece_of_face[faces] = piece
+    out = tessellate_mesh(np.ascontiguousarray(points), counts, int_array(mesh.GetFaceVertexIndicesAttr(), time),
                           int_array(mesh.GetHoleIndicesAttr(), time), str(mesh.GetOrientationAttr().Get(time)),
                           mesh_normals(mesh, time), mesh_uvs(mesh, time, uv_names), subdivision_rules(mesh, time),
-                          refine_level)
+                          refine_level, piece_of_face, len(subset_faces) + 1)
     for message in out["warnings"]:
         warn(message)
-    if out["indices"] is None:
-        return None
-    return Triangles(out["positions"], out["indices"], out["normals"], out["uvs"], out["faces"]).contiguous()
+    pieces = [None if p["indices"] is None else
+              Triangles(p["positions"], p["indices"], p["normals"], p["uvs"], p["faces"]).contiguous()
+              for p in out["pieces"]]
+    return None if all(p is None for p in pieces) else pieces
 
 
 # -- implicit prims ------------------------------------------------------------------------------

@@ -181,14 +181,21 @@ class StageLoader:
             mesh = UsdGeom.Mesh(prim)
             subsets = self.material_subsets(mesh)
             subsets, uv_names = self.subset_materials(subsets, material, uv_names)
-            triangles = mesh_triangles(mesh, self.time, warn, uv_names, self.refine_level)
+            pieces = mesh_triangles(mesh, self.time, warn, uv_names, self.refine_level,
+                                    [subset.faces for subset in subsets])
         else:
             triangles = implicit_triangles(prim, self.time, warn)
-        if triangles is None:
+            pieces = None if triangles is None else [triangles]
+        if pieces is None:
             return
         double_sided = bool(UsdGeom.Gprim(prim).GetDoubleSidedAttr().Get(self.time))
         added = 0
-        for piece_name, piece_material, piece in self.pieces(name, material, triangles, subsets):
+        # The faces in no subset under the mesh's name and material, then each subset's faces under
+        # its own path and material (as Hydra splits them).
+        names = [(name, material)] + [(subset.path, subset.material) for subset in subsets]
+        for (piece_name, piece_material), piece in zip(names, pieces):
+            if piece is None:
+                continue
             mesh_id = self.scene.add_mesh(piece_name, piece.positions, piece.indices, piece.normals,
                                           piece.uvs, piece_material, transform, double_sided, prototype)
             if mesh_id >= 0:
@@ -196,29 +203,6 @@ class StageLoader:
                 self.counts["triangles"] += len(piece.indices)
         if added:
             self.counts["meshes"] += 1  # a mesh prim, however many pieces its subsets made
-
-    @staticmethod
-    def pieces(name, material, triangles, subsets):
-        """(piece name, material, Triangles) for each non-empty piece: the faces in no subset under
-        the mesh's name and material, then each subset's faces under its own path and material."""
-        if not subsets or len(triangles.faces) == 0:
-            return [(name, material, triangles)]
-        piece_of_face = np.zeros(int(triangles.faces.max()) + 1, np.int64)
-        for piece, subset in enumerate(subsets, start=1):
-            faces = subset.faces[subset.faces < len(piece_of_face)]
-            piece_of_face[faces] = piece
-        piece_of_triangle = piece_of_face[triangles.faces]
-        order = np.argsort(piece_of_triangle, kind="stable")  # triangles grouped by piece, in mesh order
-        bounds = np.searchsorted(piece_of_triangle[order], np.arange(len(subsets) + 2))
-        out = []
-        for piece, (piece_name, piece_material) in enumerate(
-                [(name, material)] + [(subset.path, subset.material) for subset in subsets]):
-            which = order[bounds[piece]:bounds[piece + 1]]
-            if len(which) == len(order):
-                out.append((piece_name, piece_material, triangles))
-            elif len(which):
-                out.append((piece_name, piece_material, triangles.select(which)))
-        return out
 
     def material_subsets(self, mesh):
         """The mesh's materialBind face subsets (authored order), each with the faces it owns:

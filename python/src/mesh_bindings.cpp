@@ -6,10 +6,12 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
+#include <algorithm>
 #include <cstring>
 #include <optional>
 
 #include "renderer/mesh_description.h"
+#include "renderer/mesh_pieces.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -54,10 +56,25 @@ MeshPrimvar makePrimvar(const std::string& name, const Floats2d& values, const s
     return p;
 }
 
+nb::dict pieceArrays(gi::TriangleMesh& m) {
+    std::vector<float> positions(m.positions.size() * 3), normals(m.normals.size() * 3), uvs(m.uvs.size() * 2);
+    std::memcpy(positions.data(), m.positions.data(), positions.size() * sizeof(float));
+    std::memcpy(normals.data(), m.normals.data(), normals.size() * sizeof(float));
+    std::memcpy(uvs.data(), m.uvs.data(), uvs.size() * sizeof(float));
+    std::vector<int64_t> faces(m.faces.begin(), m.faces.end());
+    nb::dict out;
+    out["positions"] = toNumpy(std::move(positions), 3);
+    out["indices"] = toNumpy(std::move(m.indices), 3);
+    out["normals"] = toNumpy(std::move(normals), 3);
+    out["uvs"] = toNumpy(std::move(uvs), 2);
+    out["faces"] = toNumpy(std::move(faces), 1);
+    return out;
+}
+
 nb::dict tessellateMesh(const Points& points, const Ints& counts, const Ints& indices, const std::optional<Ints>& holes,
                         const std::string& orientation, const std::optional<MeshPrimvar>& normals,
                         const std::optional<MeshPrimvar>& uvs, const std::optional<SubdivisionRules>& subdivision,
-                        int refineLevel) {
+                        int refineLevel, const std::optional<Ints>& pieceOfFace, size_t pieceCount) {
     MeshDescription d;
     d.points.resize(points.shape(0));
     std::memcpy(d.points.data(), points.data(), d.points.size() * sizeof(gi::Vec3));
@@ -71,22 +88,17 @@ nb::dict tessellateMesh(const Points& points, const Ints& counts, const Ints& in
     else d.subdivision.scheme = "none";
     d.refineLevel = refineLevel;
     gi::TessellatedMesh t;
+    std::vector<gi::TriangleMesh> pieces;
     {
         nb::gil_scoped_release release;
         t = gi::tessellate(d);
+        if (pieceOfFace) pieces = gi::splitByFace(t.mesh, toInts(pieceOfFace), std::max<size_t>(pieceCount, 1));
+        else pieces.push_back(std::move(t.mesh));
     }
-    gi::TriangleMesh& m = t.mesh;
-    std::vector<float> positions(m.positions.size() * 3), normalValues(m.normals.size() * 3), uvValues(m.uvs.size() * 2);
-    std::memcpy(positions.data(), m.positions.data(), positions.size() * sizeof(float));
-    std::memcpy(normalValues.data(), m.normals.data(), normalValues.size() * sizeof(float));
-    std::memcpy(uvValues.data(), m.uvs.data(), uvValues.size() * sizeof(float));
-    std::vector<int64_t> faces(m.faces.begin(), m.faces.end());
+    nb::list arrays;
+    for (gi::TriangleMesh& piece : pieces) arrays.append(pieceArrays(piece));
     nb::dict out;
-    out["positions"] = toNumpy(std::move(positions), 3);
-    out["indices"] = toNumpy(std::move(m.indices), 3);
-    out["normals"] = toNumpy(std::move(normalValues), 3);
-    out["uvs"] = toNumpy(std::move(uvValues), 2);
-    out["faces"] = toNumpy(std::move(faces), 1);
+    out["pieces"] = arrays;
     out["warnings"] = t.warnings;
     out["refined"] = t.refined;
     return out;
@@ -112,8 +124,10 @@ void bindMesh(nb::module_& m) {
         .def_rw("corner_sharpnesses", &SubdivisionRules::cornerSharpnesses);
     m.def("tessellate_mesh", &tessellateMesh, "points"_a, "face_vertex_counts"_a, "face_vertex_indices"_a,
           "hole_indices"_a = nb::none(), "orientation"_a = "rightHanded", "normals"_a = nb::none(),
-          "uvs"_a = nb::none(), "subdivision"_a = nb::none(), "refine_level"_a = 0,
-          "A UsdGeomMesh's arrays as the renderer's triangles (renderer/mesh_description.h): a dict of "
-          "positions (N, 3), indices (M, 3), normals and uvs (per vertex, or None), faces (M,) (the authored "
-          "face of each triangle), warnings and refined. subdivision None: a polygon mesh.");
+          "uvs"_a = nb::none(), "subdivision"_a = nb::none(), "refine_level"_a = 0, "piece_of_face"_a = nb::none(),
+          "pieces"_a = 1,
+          "A UsdGeomMesh's arrays as the renderer's triangles (renderer/mesh_description.h), cut into `pieces` "
+          "by piece_of_face (renderer/mesh_pieces.h; None: one piece): a dict of pieces (each a dict of "
+          "positions (N, 3), indices (M, 3) or None when empty, normals and uvs per vertex or None, faces (M,): "
+          "the authored face of each triangle), warnings and refined. subdivision None: a polygon mesh.");
 }

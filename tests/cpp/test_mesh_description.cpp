@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "renderer/mesh_description.h"
+#include "renderer/mesh_pieces.h"
 
 using namespace gi;
 
@@ -285,4 +286,22 @@ TEST(MeshDescription, LevelZeroAndPolygonMeshesAreTheCage) {
         EXPECT_EQ(t.mesh.triangleCount(), 12u);
         EXPECT_DOUBLE_EQ(volume(t.mesh), 8.0);
     }
+}
+
+TEST(MeshDescription, PiecesByFaceKeepTheirTrianglesAndOnlyTheirVertices) {
+    MeshDescription m = grid(3, 1);  // faces 0, 1, 2 left to right, shared points
+    TriangleMesh whole = tessellate(m).mesh;
+    std::vector<TriangleMesh> pieces = splitByFace(whole, {0, 1, 1}, 3);  // face 3 and piece 2: none
+    ASSERT_EQ(pieces.size(), 3u);
+    EXPECT_EQ(pieces[0].triangleCount(), 2u);
+    EXPECT_EQ(pieces[0].positions.size(), 4u);  // face 0's four points only
+    EXPECT_EQ(pieces[1].triangleCount(), 4u);
+    EXPECT_EQ(pieces[1].positions.size(), 6u);
+    EXPECT_EQ(pieces[2].triangleCount(), 0u);
+    for (size_t t = 0; t < pieces[1].triangleCount(); ++t) {
+        EXPECT_GE(pieces[1].faces[t], 1);
+        for (int k = 0; k < 3; ++k) EXPECT_GE(pieces[1].positions[pieces[1].indices[3 * t + k]].x, 1.0f);
+    }
+    // Winding and positions survive the cut.
+    for (size_t t = 0; t < pieces[0].triangleCount(); ++t) EXPECT_GT(triangleNormal(pieces[0], t).z, 0.0f);
 }
