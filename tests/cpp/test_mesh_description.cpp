@@ -3,6 +3,7 @@
 // a warning when a subdivision mesh cannot be refined.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "renderer/mesh_description.h"
@@ -304,4 +305,79 @@ TEST(MeshDescription, PiecesByFaceKeepTheirTrianglesAndOnlyTheirVertices) {
     }
     // Winding and positions survive the cut.
     for (size_t t = 0; t < pieces[0].triangleCount(); ++t) EXPECT_GT(triangleNormal(pieces[0], t).z, 0.0f);
+}
+
+TEST(MeshDescription, UvsAreRefinedWithTheSurface) {
+    // A 2x2 Catmull-Clark grid with indexed face-varying uvs: each point's grid (x, y) / 2, the
+    // centre's moved to (0.7, 0.5) so that the uvs are not linear. With linear face-varying
+    // interpolation everywhere ("all") each refined corner's uv is bilinear in its coarse face's
+    // corners: at level 2 every uv is one of those faces' bilinear values at quarter parameters.
+    MeshDescription m = grid(2, 2);
+    m.subdivision.scheme = "catmullClark";
+    m.subdivision.faceVaryingLinearInterpolation = "all";
+    m.refineLevel = 2;
+    std::vector<float> values;
+    for (const Vec3& p : m.points) values.insert(values.end(), {p.x / 2, p.y / 2});
+    values[2 * 4] = 0.7f;  // point 4 is the centre (1, 1)
+    m.uvs = {"primvars:st", values, 2, "faceVarying", m.faceVertexIndices};
+    std::vector<Vec2> bilinear;
+    for (size_t f = 0; f < 4; ++f) {
+        Vec2 c[4];
+        for (int k = 0; k < 4; ++k) {
+            int p = m.faceVertexIndices[4 * f + size_t(k)];
+            c[k] = Vec2(values[2 * size_t(p)], values[2 * size_t(p) + 1]);
+        }
+        for (int i = 0; i <= 4; ++i)
+            for (int j = 0; j <= 4; ++j) {
+                float u = i / 4.0f, v = j / 4.0f;  // corners 0..3 at (0,0), (1,0), (1,1), (0,1)
+                auto mix = [&](float a, float b, float cc, float d) {
+                    return (1 - u) * (1 - v) * a + u * (1 - v) * b + u * v * cc + (1 - u) * v * d;
+                };
+                bilinear.push_back(Vec2(mix(c[0].x, c[1].x, c[2].x, c[3].x), mix(c[0].y, c[1].y, c[2].y, c[3].y)));
+            }
+    }
+    auto allBilinear = [&](const TriangleMesh& t) {
+        for (const Vec2& uv : t.uvs) {
+            float nearest = 1;
+            for (const Vec2& b : bilinear) nearest = std::min(nearest, std::max(std::fabs(uv.x - b.x), std::fabs(uv.y - b.y)));
+            if (nearest > 1e-5f) return false;
+        }
+        return true;
+    };
+    TriangleMesh linear = tessellate(m).mesh;
+    ASSERT_EQ(linear.uvs.size(), linear.positions.size());
+    ASSERT_EQ(linear.triangleCount(), 4u * 16u * 2u);
+    EXPECT_TRUE(allBilinear(linear));
+    m.subdivision.faceVaryingLinearInterpolation = "cornersPlus1";  // smooth inside: not bilinear
+    EXPECT_FALSE(allBilinear(tessellate(m).mesh));
+
+    // Per-point uvs are refined like the points (the vertex rule, not the varying one's bilinear):
+    // with uv = (x, y) / 2 of each control point, each refined uv is (x, y) / 2 of its refined
+    // position. The centre point is moved so that the two rules differ.
+    m.points[4] = Vec3(1.3f, 1.2f, 0);
+    values.clear();
+    for (const Vec3& p : m.points) values.insert(values.end(), {p.x / 2, p.y / 2});
+    m.uvs = {"primvars:st", values, 2, "vertex", {}};
+    TriangleMesh v = tessellate(m).mesh;
+    ASSERT_EQ(v.uvs.size(), v.positions.size());
+    for (size_t i = 0; i < v.uvs.size(); ++i) {
+        EXPECT_NEAR(v.uvs[i].x, v.positions[i].x / 2, 1e-5f);
+        EXPECT_NEAR(v.uvs[i].y, v.positions[i].y / 2, 1e-5f);
+    }
+}
+
+TEST(MeshDescription, PerCreaseSharpnessesApplyToTheirOwnChains) {
+    // Two closed chains: round the +z face (4-5-7-6-4) infinitely sharp, round the -z face
+    // (0-1-3-2-0) smooth (sharpness 0). Each is read with its own sharpness: the +z face stays flat
+    // at z = 1 (as in CreasesAndCornersStaySharp), the -z face sinks like the smooth cube's.
+    MeshDescription m = cube(3);
+    m.subdivision.creaseIndices = {4, 5, 7, 6, 4, 0, 1, 3, 2, 0};
+    m.subdivision.creaseLengths = {5, 5};
+    m.subdivision.creaseSharpnesses = {10, 0};
+    TriangleMesh t = tessellate(m).mesh;
+    float top = -1, bottom = 1;
+    for (const Vec3& p : t.positions) top = std::max(top, p.z), bottom = std::min(bottom, p.z);
+    EXPECT_FLOAT_EQ(faceCentreZ(t), 1.0f);
+    EXPECT_FLOAT_EQ(top, 1.0f);
+    EXPECT_GT(bottom, -0.86f);  // the smooth cube's face centre: -0.849 at level 3
 }
