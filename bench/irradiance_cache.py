@@ -28,7 +28,7 @@ def measure(scene, integrator, width, height, spp, params):
     """Runs in the child process."""
     import gi
     from gi import _core
-    from gi.cli import render_loaded, render_settings
+    from gi.render import render_loaded, render_settings
     start = time.perf_counter()
     loaded = gi.load_stage(str(scene))
     loaded.scene.commit()

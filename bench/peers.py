@@ -69,7 +69,7 @@ class Gi:
         self.resolution, self.threads = resolution, threads
 
     def render(self, spp, seed, integrator="path"):
-        from gi.cli import render_loaded, render_settings
+        from gi.render import render_loaded, render_settings
         settings = render_settings(self.loaded, integrator, {}, spp, seed, self.threads, 0.0, self.resolution, "box")
         with Clock() as clock:
             result = render_loaded(self.loaded, settings, integrator)
@@ -79,7 +79,7 @@ class Gi:
 
     def render_for(self, seconds, integrator, seconds_per_sample):
         """One render cut off by gi's own time limit: (image, Clock, camera samples)."""
-        from gi.cli import render_loaded, render_settings
+        from gi.render import render_loaded, render_settings
         settings = render_settings(self.loaded, integrator, {}, 1 << 20, 7, self.threads, seconds, self.resolution,
                                    "box")
         with Clock() as clock:

@@ -50,7 +50,7 @@ def load_reference(path):
 
 def error_curve(loaded, integrator, reference, error_of, target, max_seconds, threads):
     """[(spp, seconds, error)] at doubling spp until the error reaches target or time runs out."""
-    from gi.cli import render_loaded, render_settings
+    from gi.render import render_loaded, render_settings
     height, width = reference.shape[:2]
     curve, spent, spp = [], 0.0, 1
     while True:

@@ -122,10 +122,30 @@ bool HdGiReadDenoise(HdRenderDelegate const& delegate) {
     return ToDouble(delegate.GetRenderSetting(HdGiSettingsTokens::Denoise()), &v) && v != 0;
 }
 
+bool HdGiIsKnownSetting(std::string const& key) {
+    for (TfToken const& t : {HdGiSettingsTokens::Integrator(), HdGiSettingsTokens::Seed(), HdGiSettingsTokens::TimeLimit(),
+                             HdGiSettingsTokens::Preset(), HdGiSettingsTokens::Denoise()})
+        if (key == t.GetString()) return true;
+    if (key == "gi:samples") return true;
+    // gi:<integrator>:<param>, both names the registry's.
+    size_t colon = key.find(':', 3);
+    if (key.rfind("gi:", 0) != 0 || colon == std::string::npos) return false;
+    gi::IntegratorInfo const* info = gi::findIntegrator(key.substr(3, colon - 3));
+    if (!info) return false;
+    for (gi::ParamInfo const& p : info->params)
+        if (p.name == key.substr(colon + 1)) return true;
+    return false;
+}
+
 void HdGiRenderSettings::_Sync(HdSceneDelegate*, HdRenderParam*, HdDirtyBits const*) {
     if (!IsActive()) return;
     static TfToken const samples("gi:samples");
     for (auto const& [key, value] : GetNamespacedSettings()) {
+        // A typo ("gi:path:pathDepht") would otherwise leave that parameter at its default unseen.
+        if (key.rfind("gi:", 0) == 0 && !HdGiIsKnownSetting(key))
+            TF_WARN("hdGi: render settings %s: unknown setting %s (gi:integrator, gi:samples, gi:seed, gi:timeLimit, "
+                    "gi:preset, gi:denoise or gi:<integrator>:<parameter>); ignored",
+                    GetId().GetText(), key.c_str());
         TfToken token(key);
         if (token == samples) token = HdRenderSettingsTokens->convergedSamplesPerPixel;
         if (_delegate->GetRenderSetting(token) != value) _delegate->SetRenderSetting(token, value);

@@ -40,6 +40,10 @@ private:
 // Unknown integrator names fall back to "path" with a warning.
 gi::RenderSettings HdGiReadSettings(HdRenderDelegate const& delegate);
 
+// Whether a "gi:" render setting names a setting of the delegate's (the fixed ones, or an
+// integrator's parameter as gi:<integrator>:<param>); _Sync warns about the others.
+bool HdGiIsKnownSetting(std::string const& key);
+
 // gi:denoise: whether the colour AOV is denoised (Open Image Denoise) after each pass.
 bool HdGiReadDenoise(HdRenderDelegate const& delegate);
 

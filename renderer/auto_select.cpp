@@ -82,20 +82,15 @@ RenderSettings pilotSettings(const RenderSettings& settings, const std::string& 
     return ps;
 }
 
-// Passes from `firstSample` on until `deadline`; the image, or none if some pixel has no sample.
-bool renderUntil(Renderer& renderer, int firstSample, double deadline, const std::atomic<bool>* cancel,
-                 std::vector<double>& codes) {
+// The renderer's progressive passes until `deadline`; the image, or none if some pixel has no sample.
+bool renderUntil(Renderer& renderer, double deadline, const std::atomic<bool>* cancel, std::vector<double>& codes) {
     if (!renderer.preprocess(cancel, deadline)) return false;
-    int taken = 0;
-    for (int pass = 1;; pass = std::min(pass * 2, 64)) {
-        int count = renderer.passSamplesBefore(deadline, pass);
-        PassEnd end = renderer.renderPass(firstSample + taken, count, deadline, cancel);
+    for (;;) {
+        PassEnd end = renderer.renderNextPass(Renderer::kMaxPassSamples, deadline, cancel);
         if (end == PassEnd::Cancelled) return false;
-        if (end == PassEnd::Deadline) break;
-        taken += count;
-        if (steadySeconds() >= deadline) break;
+        if (end != PassEnd::Complete || steadySeconds() >= deadline) break;
     }
-    if (taken == 0) return false;  // the first pass did not reach every pixel
+    if (renderer.samplesTaken() == 0) return false;  // the first pass did not reach every pixel
     std::vector<float> color = renderer.film().color();
     codes.resize(color.size());
     for (size_t i = 0; i < color.size(); ++i) codes[i] = srgbCode(color[i]);
@@ -118,7 +113,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         for (int s = 0; s < 2; ++s) {
             Renderer renderer(scene, pilotSettings(settings, integrator, width, height, seed + uint32_t(s)), &camera);
             double deadline = s == 0 ? start + 0.5 * seconds : end;
-            if (!renderUntil(renderer, 0, deadline, cancel, pilot.codes[s])) return pilot;
+            if (!renderUntil(renderer, deadline, cancel, pilot.codes[s])) return pilot;
             pilot.renderSeconds += 0.5 * renderer.stats().renderSeconds;
             pilot.preprocessSeconds += 0.5 * renderer.stats().preprocessSeconds;
         }
@@ -126,9 +121,9 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         Renderer renderer(scene, pilotSettings(settings, integrator, width, height, seed), &camera);
         if (!renderer.preprocess(cancel, end)) return pilot;
         double half = steadySeconds() + 0.5 * std::max(0.0, end - steadySeconds());
-        if (!renderUntil(renderer, 0, half, cancel, pilot.codes[0])) return pilot;
-        renderer.reset();
-        if (!renderUntil(renderer, kSecondPilotSample, end, cancel, pilot.codes[1])) return pilot;
+        if (!renderUntil(renderer, half, cancel, pilot.codes[0])) return pilot;
+        renderer.reset(kSecondPilotSample);
+        if (!renderUntil(renderer, end, cancel, pilot.codes[1])) return pilot;
         pilot.renderSeconds = 0.5 * renderer.stats().renderSeconds;
         pilot.preprocessSeconds = renderer.stats().preprocessSeconds;
     }

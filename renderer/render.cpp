@@ -68,6 +68,17 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
         throw std::invalid_argument("unknown integrator '" + settings.integrator + "' (have: " + names + ")");
     }
     info_ = info;
+    // A name the integrator does not take is a typo or meant for another one: rendering
+    // something else silently (with that parameter at its default) is worse than refusing.
+    for (const auto& [name, value] : settings.params.values()) {
+        bool takes = false;
+        for (const ParamInfo& p : info->params) takes = takes || p.name == name;
+        if (takes) continue;
+        std::string names;
+        for (const ParamInfo& p : info->params) names += (names.empty() ? "" : ", ") + p.name;
+        throw std::invalid_argument("integrator " + info->name + " has no parameter '" + name + "' (it takes: " +
+                                    (names.empty() ? "none" : names) + ")");
+    }
     settings_.params = withPreset(settings.preset, settings.integrator, settings.params);
     if (settings.integrator != kAutoIntegrator) integrator_ = info->create(settings_.params);
     CameraDesc desc = camera ? *camera : scene.hasCamera() ? scene.cameraDesc() : defaultCamera(scene);
@@ -129,9 +140,10 @@ bool Renderer::preprocess(const std::atomic<bool>* cancel, double deadline) {
     return true;
 }
 
-void Renderer::reset() {
+void Renderer::reset(int firstSample) {
     film_.clear();
     samplesTaken_ = 0;
+    firstSample_ = firstSample;
     nextPassSamples_ = 1;
     progress_ = 0;
 }
@@ -278,7 +290,7 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
         stats_.depthCappedPaths += c.rays.depthCapped;
     }
     stats_.renderSeconds += secondsSince(start);
-    if (complete) samplesTaken_ = std::max(samplesTaken_, firstSample + count);
+    if (complete) samplesTaken_ = std::max(samplesTaken_, firstSample - firstSample_ + count);
     stats_.spp = samplesTaken_;
     if (complete) return PassEnd::Complete;
     if (cancelled) return PassEnd::Cancelled;
@@ -292,7 +304,7 @@ PassEnd Renderer::renderNextPass(int maxPassSamples, double deadline, const std:
     int count = passSamplesBefore(deadline, std::min(nextPassSamples_, std::max(1, settings_.spp) - samplesTaken_));
     // A pass split into chunks (maxSamplesPerPass) keeps the chunks it finished: samplesTaken_
     // moves past them, and the chunks after start where they would have.
-    PassEnd end = renderPass(samplesTaken_, count, deadline, cancel);
+    PassEnd end = renderPass(firstSample_ + samplesTaken_, count, deadline, cancel);
     if (end == PassEnd::Complete) nextPassSamples_ = std::min(nextPassSamples_ * 2, std::max(1, maxPassSamples));
     return end;
 }
@@ -301,7 +313,6 @@ void Renderer::render(const std::atomic<bool>* cancel, double startedAt) {
     double start = startedAt > 0 ? startedAt : steadySeconds();
     double deadline = settings_.timeLimit > 0 ? start + settings_.timeLimit : 0;
     preprocess(cancel, deadline);
-    constexpr int kMaxPassSamples = 64;
     while (!finished()) {
         if (cancel && cancel->load()) break;
         if (renderNextPass(kMaxPassSamples, deadline, cancel) != PassEnd::Complete) break;

@@ -97,6 +97,9 @@ public:
     // render paused (cancelled) and resumed is bit-identical to an uninterrupted one. Returns
     // Complete without rendering once settings.spp are taken.
     PassEnd renderNextPass(int maxPassSamples, double deadline = 0, const std::atomic<bool>* cancel = nullptr);
+    // render()'s cap on a pass: long enough to amortise a pass's overhead, short enough that a
+    // progressive image refreshes.
+    static constexpr int kMaxPassSamples = 64;
     bool finished() const { return samplesTaken_ >= std::max(1, settings_.spp); }
     // Preprocess plus passes up to settings.spp (renderNextPass up to 64 samples), or until
     // settings.timeLimit (measured from this call) with the last pass cut at the deadline. After
@@ -120,7 +123,10 @@ public:
     const RenderStats& stats() const { return stats_; }
     int samplesTaken() const { return samplesTaken_; }
     const Camera& camera() const { return camera_; }
-    void reset();  // clears the film, keeps the preprocessed integrator
+    // Clears the film, keeps the preprocessed integrator. The next passes take sample indices
+    // from `firstSample` on: an image independent of the first one from the same preprocessing
+    // (auto's pilots measure a cache's noise so).
+    void reset(int firstSample = 0);
 
 private:
     // Integrator "auto": runs the pilots in part of the time before `deadline` (or of the
@@ -137,6 +143,7 @@ private:
     Film film_;
     RenderStats stats_;
     int samplesTaken_ = 0;
+    int firstSample_ = 0;      // of the passes since reset()
     int nextPassSamples_ = 1;  // renderNextPass's schedule
     bool preprocessed_ = false;
     std::atomic<double> progress_{0};

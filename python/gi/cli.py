@@ -3,22 +3,14 @@
 
 gi._core is imported lazily, so `gi --help` and `gi inspect` work before the renderer is built."""
 import argparse
-import datetime
-import json
 import re
 import sys
-from pathlib import Path
 
 from . import __version__
 from .errors import DenoiserMissing, SceneError
+from .render import COMPLEXITY_REFINE_LEVELS, DEFAULT_COMPLEXITY, CoreMissing, integrator_catalog, preset_catalog
 
 PARAM_TYPES = {"int": int, "float": float}
-
-# usdrecord's --complexity and the refine level UsdImaging gives subdivision meshes for it
-# (UsdImagingGLEngine's _GetRefineLevel of RefinementComplexities 1.0, 1.1, 1.2, 1.3); low, the
-# control cage, is usdrecord's default (UsdAppUtils.complexityArgs) and UsdImagingGLRenderParams'.
-COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
-DEFAULT_COMPLEXITY = "low"
 
 
 def kebab(name):
@@ -26,42 +18,7 @@ def kebab(name):
     return re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "-", name).lower()
 
 
-def warn(message):
-    print(f"gi: warning: {message}", file=sys.stderr)
-
-
-class CoreMissing(RuntimeError):
-    """gi._core, the compiled renderer, is not built."""
-
-
-def require_core():
-    try:
-        from . import _core
-    except ImportError as error:
-        raise CoreMissing(f"gi._core (the compiled renderer) is not available ({error}); "
-                          f"build it with scripts/build.sh") from None
-    return _core
-
-
 # -- integrator parameters as flags --------------------------------------------------------------
-
-def integrator_catalog():
-    """gi._core.integrators(), or [] when the core is not built (`gi render` then says so)."""
-    try:
-        from . import _core
-    except ImportError:
-        return []
-    return _core.integrators()
-
-
-def preset_catalog():
-    """gi._core.presets(), or [] when the core is not built."""
-    try:
-        from . import _core
-    except ImportError:
-        return []
-    return _core.presets()
-
 
 class IntegratorFlags:
     """Command-line flags generated from every integrator's parameter list."""
@@ -117,82 +74,6 @@ class IntegratorFlags:
             if not low <= value <= high:
                 parser.error(f"--{kebab(name)} {value} is outside {low}..{high}")
         return chosen
-
-
-# -- rendering -----------------------------------------------------------------------------------
-
-def progress_bar(description, enabled):
-    """A tqdm bar and the progress(fraction) callback that moves it."""
-    from tqdm import tqdm
-    bar = tqdm(total=100, desc=description, disable=not enabled, leave=False, file=sys.stderr,
-               bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}")
-
-    def update(fraction):
-        bar.n = min(max(fraction, 0.0), 1.0) * 100
-        bar.refresh()
-    return bar, update
-
-
-def render_settings(loaded, integrator, params, spp, seed, threads, time_limit, resolution, pixel_filter):
-    settings = require_core().RenderSettings()
-    settings.width, settings.height = resolution or loaded.resolution
-    settings.spp = spp
-    settings.integrator = integrator
-    settings.params = dict(params or {})
-    settings.seed = seed
-    settings.threads = threads
-    settings.time_limit = time_limit
-    if hasattr(settings, "filter"):  # not in _core.pyi's contract; set only where the core has it
-        settings.filter = pixel_filter
-    return settings
-
-
-def render_loaded(loaded, settings, label, show_progress=False, camera=None, progress=None):
-    """Renders a loaded scene (through `camera` when given); progress(fraction) instead of a bar
-    of its own when given."""
-    bar, update = progress_bar(label, show_progress and progress is None)
-    try:
-        return require_core().render(loaded.scene, settings, progress or update, camera)
-    finally:
-        bar.close()
-
-
-def render_scene(scene_path, integrator="path", params=None, spp=16, seed=0, threads=0, time_limit=0.0,
-                 resolution=None, camera=None, show_progress=False, pixel_filter="box", refine_level=0):
-    """Loads and renders a scene; returns (result, loaded scene, settings)."""
-    from .loader import load_stage
-    loaded = load_stage(scene_path, camera=camera, refine_level=refine_level)
-    settings = render_settings(loaded, integrator, params, spp, seed, threads, time_limit, resolution,
-                               pixel_filter)
-    result = render_loaded(loaded, settings, f"{Path(scene_path).name} [{integrator}]", show_progress)
-    return result, loaded, settings
-
-
-def exr_metadata(args, params, result, loaded, wall_seconds, frame=None, seed=None):
-    """String attributes that make the EXR reproducible: what rendered it, how, and when."""
-    return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": loaded.camera_path,
-            "gi:integrator": result.integrator or args.integrator, "gi:auto": result.auto_summary,
-            "gi:spp": str(result.spp), "gi:seed": str(args.seed if seed is None else seed),
-            "gi:complexity": getattr(args, "complexity", DEFAULT_COMPLEXITY),
-            "gi:frame": "earliest time" if frame is None else str(frame),
-            "gi:params": json.dumps(params, sort_keys=True), "gi:preset": args.preset or "",
-            "gi:seconds": f"{result.stats.get('seconds', wall_seconds):.3f}",
-            "gi:wall_seconds": f"{wall_seconds:.3f}",
-            # Samples the renderer replaced (NaN, Inf, negative): the pixels never show them.
-            "gi:non_finite_samples": str(int(result.stats["non_finite_samples"])),
-            "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
-
-
-def summary(args, settings, result, wall_seconds, outputs, frame=None):
-    stats = result.stats
-    x0, y0, x1, y1 = result.data_window
-    size = f"{settings.width}x{settings.height}" + (
-        f" (data window {x1 - x0}x{y1 - y0} at {x0},{y0})" if (x1 - x0, y1 - y0) != (settings.width, settings.height) else "")
-    technique = args.integrator if result.integrator in ("", args.integrator) else \
-        f"{args.integrator} -> {result.integrator}"
-    return (f"{args.scene}{'' if frame is None else f' frame {frame}'}: {size} {technique} "
-            f"{result.spp} spp in {wall_seconds:.2f} s, {stats.get('rays_per_second', 0) / 1e6:.2f} Mrays/s, "
-            f"{stats.get('samples_per_second', 0) / 1e3:.1f} ksamples/s -> {', '.join(outputs)}")
 
 
 def cmd_inspect(args):

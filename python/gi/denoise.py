@@ -29,7 +29,7 @@ def pyoidn_library_folders():
 
 def open_denoiser(threads=0):
     """A gi._core.Denoiser; DenoiserMissing (with what to install) when no OIDN 2.x loads."""
-    from .cli import require_core
+    from .render import require_core
     core = require_core()
     try:
         return core.Denoiser(pyoidn_library_folders(), threads)

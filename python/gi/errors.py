@@ -1,4 +1,5 @@
 """Errors the gi front end reports to users."""
+import sys
 
 
 class SceneError(Exception):
@@ -7,3 +8,7 @@ class SceneError(Exception):
 
 class DenoiserMissing(Exception):
     """Denoising was asked for but Open Image Denoise 2.x is not installed; the message says what to install."""
+
+
+def warn(message):
+    print(f"gi: warning: {message}", file=sys.stderr)

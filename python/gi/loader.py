@@ -451,7 +451,7 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
     allow_missing: render a stage whose sublayers, references or payloads cannot all be found (each
     is a warning) instead of raising SceneError naming them.
     refine_level: how many times subdivision meshes are refined (0: their control cage; see
-    cli.COMPLEXITY_REFINE_LEVELS).
+    render.COMPLEXITY_REFINE_LEVELS).
     Raises SceneError naming the file when it is missing or not USD."""
     file = str(path)
     stage = stage if stage is not None else open_stage(file, allow_missing)

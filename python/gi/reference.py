@@ -119,7 +119,7 @@ class ReferenceProgress:
     """A tqdm bar that moves with elapsed time or with the error's approach to the target."""
 
     def __init__(self, enabled, max_seconds, target_error):
-        from .cli import progress_bar
+        from .render import progress_bar
         self.bar, self._update = progress_bar("reference", enabled)
         self.max_seconds, self.target_error = max_seconds, target_error
         self.start = time.perf_counter()
@@ -147,7 +147,7 @@ class ReferenceProgress:
 
 
 def render_batch(loaded, spp, seed, threads, time_limit, resolution, progress):
-    from .cli import render_settings, require_core
+    from .render import render_settings, require_core
     settings = render_settings(loaded, INTEGRATOR, {}, spp, seed, threads, time_limit, resolution, "box")
     return require_core().render(loaded.scene, settings, progress.tick)
 
@@ -207,7 +207,7 @@ def reference_metadata(args, reference):
 
 
 def cmd_reference(args):
-    from .cli import require_core
+    from .render import require_core
     if args.target_error <= 0:
         raise ValueError(f"--target-error must be positive, got {args.target_error}")
     reference = render_reference(args.scene, args.max_seconds, args.target_error,

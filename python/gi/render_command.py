@@ -1,11 +1,16 @@
 """`gi render`: the frames (gi.sequence) times the images each frame writes (the -o EXR, or the
 render settings' RenderProducts, gi.products), rendered and written with one summary line each."""
+import datetime
+import json
 import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from .cli import COMPLEXITY_REFINE_LEVELS, exr_metadata, progress_bar, render_loaded, render_settings, require_core, summary, warn
+from . import __version__
+from .errors import warn
+from .render import (COMPLEXITY_REFINE_LEVELS, DEFAULT_COMPLEXITY, progress_bar, render_loaded, render_settings,
+                     require_core)
 
 
 def check_frame_names(args, parser, pattern, flag):
@@ -158,3 +163,30 @@ def cmd_render(args, flags, parser):
     finally:
         bar.close()
     return 0
+
+
+def exr_metadata(args, params, result, loaded, wall_seconds, frame=None, seed=None):
+    """String attributes that make the EXR reproducible: what rendered it, how, and when."""
+    return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": loaded.camera_path,
+            "gi:integrator": result.integrator or args.integrator, "gi:auto": result.auto_summary,
+            "gi:spp": str(result.spp), "gi:seed": str(args.seed if seed is None else seed),
+            "gi:complexity": getattr(args, "complexity", DEFAULT_COMPLEXITY),
+            "gi:frame": "earliest time" if frame is None else str(frame),
+            "gi:params": json.dumps(params, sort_keys=True), "gi:preset": args.preset or "",
+            "gi:seconds": f"{result.stats.get('seconds', wall_seconds):.3f}",
+            "gi:wall_seconds": f"{wall_seconds:.3f}",
+            # Samples the renderer replaced (NaN, Inf, negative): the pixels never show them.
+            "gi:non_finite_samples": str(int(result.stats["non_finite_samples"])),
+            "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
+
+
+def summary(args, settings, result, wall_seconds, outputs, frame=None):
+    stats = result.stats
+    x0, y0, x1, y1 = result.data_window
+    size = f"{settings.width}x{settings.height}" + (
+        f" (data window {x1 - x0}x{y1 - y0} at {x0},{y0})" if (x1 - x0, y1 - y0) != (settings.width, settings.height) else "")
+    technique = args.integrator if result.integrator in ("", args.integrator) else \
+        f"{args.integrator} -> {result.integrator}"
+    return (f"{args.scene}{'' if frame is None else f' frame {frame}'}: {size} {technique} "
+            f"{result.spp} spp in {wall_seconds:.2f} s, {stats.get('rays_per_second', 0) / 1e6:.2f} Mrays/s, "
+            f"{stats.get('samples_per_second', 0) / 1e3:.1f} ksamples/s -> {', '.join(outputs)}")

@@ -165,7 +165,7 @@ def plan_runs(args, catalog):
 
 def load_reference(path):
     """(linear RGB float32 (H, W, 3), metadata) of a reference EXR."""
-    from .cli import require_core
+    from .render import require_core
     pixels, meta = require_core().read_image(str(path))
     channels = meta.get("channels", [])
     if pixels.ndim != 3 or pixels.shape[2] < 3 or (channels and channels[:3] != ["R", "G", "B"]):
@@ -241,7 +241,7 @@ def check_row(reference, meta):
 
 def render_run(loaded, run, resolution, seed, threads):
     """(result, wall seconds, peak memory bytes) of one run on the already loaded scene."""
-    from .cli import render_loaded, render_settings
+    from .render import render_loaded, render_settings
     settings = render_settings(loaded, run.integrator, run.params, run.spp, seed, threads, run.time_limit,
                                resolution, "box")
     reset_peak_memory()
@@ -254,7 +254,7 @@ def render_run(loaded, run, resolution, seed, threads):
 def save_run(result, run, output, scene, denoised=None, denoise_meta=None):
     """The run's EXR and display PNG (of `denoised` when given: the EXR keeps the raw colour as
     noisy.R/G/B); returns their paths relative to the output folder."""
-    from .cli import require_core
+    from .render import require_core
     core = require_core()
     name = slug(run.label)
     files = {"exr": f"runs/{name}.exr", "png": f"runs/{name}.png", "difference": f"runs/{name}_difference.png"}
@@ -278,7 +278,7 @@ def study_denoiser(requested, threads):
     """(a gi._core.Denoiser or None, the integrators to denoise). `requested`: None for the default
     (DEFAULT_DENOISED, skipped with a warning without Open Image Denoise), [] for none, else a list
     that needs Open Image Denoise (DenoiserMissing otherwise)."""
-    from .cli import warn
+    from .errors import warn
     from .denoise import open_denoiser
     if requested == []:
         return None, []
@@ -340,7 +340,7 @@ def run_study(scene, reference_path, runs, output, resolution=None, seed=0, thre
     from .denoise import denoise_metadata, denoise_result
     from tqdm import tqdm
 
-    from .cli import require_core
+    from .render import require_core
     from .loader import load_stage
     from .report import write_reports
     reference, meta = load_reference(reference_path)
@@ -392,7 +392,7 @@ def denoise_choice(text, runs):
 
 
 def cmd_study(args):
-    from .cli import require_core
+    from .render import require_core
     runs = plan_runs(args, require_core().integrators())
     study = run_study(args.scene, args.reference, runs, args.output, args.resolution, args.seed, args.threads,
                       args.camera, show_progress=sys.stderr.isatty(), denoise=denoise_choice(args.denoise, runs))

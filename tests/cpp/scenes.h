@@ -2,6 +2,8 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "renderer/render.h"
@@ -157,6 +159,16 @@ inline std::vector<std::string> paramNames(const std::string& integrator) {
 
 inline bool hasParam(const std::vector<std::string>& names, const std::string& name) {
     return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// The parameters of `params` that `integrator` takes: for a test that sets one budget ("every
+// depth 1000") across integrators; the renderer refuses a name the integrator does not take.
+inline std::map<std::string, double> takenBy(const std::string& integrator, const std::map<std::string, double>& params) {
+    std::vector<std::string> names = paramNames(integrator);
+    std::map<std::string, double> taken;
+    for (const auto& [name, value] : params)
+        if (hasParam(names, name)) taken[name] = value;
+    return taken;
 }
 
 inline double channelMean(const std::vector<float>& rgb, int channel) {

@@ -27,7 +27,7 @@ TEST_P(WhiteFurnace, ReturnsLeOverOneMinusAlbedo) {
     std::map<std::string, double> params = {{"pathDepth", 1000}, {"rayDepth", 1000}};
     if (c.paths > 0) params["paths"] = c.paths;
     for (const auto& [name, value] : c.params) params[name] = value;
-    auto image = renderImage(scene, c.integrator, 16, 128, params);
+    auto image = renderImage(scene, c.integrator, 16, 128, takenBy(c.integrator, params));
     double expected = Le.x / (1 - c.albedo);
     for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(channelMean(image, ch), expected, 0.01 * expected) << "channel " << ch;
 }
@@ -126,6 +126,30 @@ TEST(Presets, ThesisPresetTruncatesThePathTracerAtDepthFive) {
     EXPECT_THROW(Renderer(scene, settings), std::invalid_argument);
 }
 
+// A parameter the integrator does not take (a typo, or one of another integrator's) is refused
+// naming it, not rendered at its default; each integrator takes every name it declares.
+TEST(Parameters, UnknownNameIsRefusedNamingIt) {
+    Scene scene;
+    buildFurnace(scene, Color(0.5f), Color(0.5f));
+    scene.commit();
+    RenderSettings settings;
+    settings.width = settings.height = 4;
+    settings.spp = 1;
+    for (const IntegratorInfo& info : integratorRegistry()) {
+        settings.integrator = info.name;
+        settings.params = ParamSet();
+        for (const ParamInfo& p : info.params) settings.params.set(p.name, p.defaultValue);
+        EXPECT_NO_THROW(Renderer(scene, settings)) << info.name;
+        settings.params.set("pathDepht", 3);
+        try {
+            Renderer renderer(scene, settings);
+            ADD_FAILURE() << info.name << " accepted the unknown parameter pathDepht";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("pathDepht"), std::string::npos) << e.what();
+        }
+    }
+}
+
 // A delta distant light of irradiance E on a Lambertian plane: L = albedo * E / pi, exactly.
 TEST(DirectLighting, PlaneUnderDistantLight) {
     for (const char* integrator : {"direct", "path"}) {
@@ -141,7 +165,7 @@ TEST(DirectLighting, PlaneUnderDistantLight) {
         sun.transform.m[2][1] = 1, sun.transform.m[2][2] = 0;
         scene.addLight(sun);
         scene.setCamera(lookingDown({0, 5, 0}, true, 10));
-        auto image = renderImage(scene, integrator, 8, 4, {{"pathDepth", 1}});
+        auto image = renderImage(scene, integrator, 8, 4, takenBy(integrator, {{"pathDepth", 1}}));
         EXPECT_NEAR(channelMean(image, 0), 0.5 * 3 / kPi, 1e-4) << integrator;
         EXPECT_NEAR(channelMean(image, 1), 0.25 * 3 / kPi, 1e-4) << integrator;
         EXPECT_NEAR(channelMean(image, 2), 0.75 * 3 / kPi, 1e-4) << integrator;

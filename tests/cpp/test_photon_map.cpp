@@ -549,7 +549,7 @@ TEST(PhotonMapRender, CornellBoxConvergesToThePathTracer) {
     const std::map<std::string, double> deep = {{"photonDepth", 30}, {"rayDepth", 30}, {"pathDepth", 30}};
     Scene reference;
     buildGlassCornellBox(reference);
-    Render path = render(reference, "path", size, 2048, deep);
+    Render path = render(reference, "path", size, 2048, takenBy("path", deep));
     struct Budget {
         double photons, gatherPhotons, finalGatherSamples, paths;
     };
@@ -561,7 +561,7 @@ TEST(PhotonMapRender, CornellBoxConvergesToThePathTracer) {
                            {"finalGatherSamples", b.finalGatherSamples}, {"paths", b.paths}, {"lightSamples", 4}});
             Scene scene;
             buildGlassCornellBox(scene);
-            Render r = render(scene, integrator, size, 16, params);
+            Render r = render(scene, integrator, size, 16, takenBy(integrator, params));
             ASSERT_TRUE(allFinite(r)) << integrator;
             double error = blockRelativeError(r.rgb, path.rgb, size);
             std::printf("[ cornell  ] %s, %.0f photons: relative block error %.4f, mean %.4f (path %.4f)\n", integrator, b.photons,
@@ -582,7 +582,8 @@ TEST(PhotonMapRender, SameImageWhateverTheThreadCount) {
         auto once = [&](int threads) {
             Scene scene;
             buildThinWallScene(scene);
-            return render(scene, integrator, 16, 2, {{"photons", 20000}, {"finalGatherSamples", 4}, {"paths", 16}}, 1, threads).rgb;
+            return render(scene, integrator, 16, 2, takenBy(integrator, {{"photons", 20000}, {"finalGatherSamples", 4}, {"paths", 16}}), 1,
+                          threads).rgb;
         };
         std::vector<float> first = once(0);
         EXPECT_EQ(first, once(0)) << integrator;

@@ -38,7 +38,7 @@ if not any((ROOT / "python" / "gi").glob("_core*.so")):
 import numpy as np  # noqa: E402
 
 from gi import _core  # noqa: E402
-from gi.cli import render_settings  # noqa: E402
+from gi.render import render_settings  # noqa: E402
 from gi.errors import SceneError  # noqa: E402
 from gi.loader import load_stage  # noqa: E402
 

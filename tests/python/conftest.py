@@ -48,7 +48,7 @@ def run_gi(*args, check=True):
 
 
 def render(scene_path, integrator="path", spp=16, seed=0, resolution=(32, 32), **params):
-    from gi.cli import render_scene
+    from gi.render import render_scene
     result, loaded, _ = render_scene(str(scene_path), integrator, params, spp, seed, resolution=resolution)
     return np.asarray(result.color), result, loaded
 

@@ -13,7 +13,7 @@ PHOTON_TECHNIQUES = {"progressivePhotonMap", "photonMapFinalGather", "photonMapI
 
 
 def render_auto(scene, seconds, resolution, **params):
-    from gi.cli import render_loaded, render_settings
+    from gi.render import render_loaded, render_settings
     from gi.loader import load_stage
     from gi.study import BUDGET_SPP_CAP
     loaded = load_stage(str(scene))
@@ -39,7 +39,7 @@ def test_auto_names_its_choice_and_every_prediction():
 
 
 def test_without_a_time_limit_auto_plans_for_its_horizon():
-    from gi.cli import render_loaded, render_settings
+    from gi.render import render_loaded, render_settings
     from gi.loader import load_stage
     loaded = load_stage(str(CORNELL))
     settings = render_settings(loaded, "auto", {"autoHorizon": 2.0}, 3, 0, 0, 0.0, (32, 24), "box")

@@ -39,7 +39,7 @@ def test_every_integrator_is_covered():
 
 @pytest.mark.parametrize("integrator,budget", CASES, ids=[f"{n}-{b:g}s" for n, b in CASES])
 def test_budget_is_kept(loaded, integrator, budget):
-    from gi.cli import render_loaded, render_settings
+    from gi.render import render_loaded, render_settings
     from gi.study import BUDGET_SPP_CAP
     settings = render_settings(loaded, integrator, {}, BUDGET_SPP_CAP, 0, 0, budget, SIZE, "box")
     start = time.perf_counter()
@@ -58,7 +58,7 @@ def test_budget_is_kept(loaded, integrator, budget):
 def test_preprocessing_that_would_overrun_scales_down_and_says_so(loaded):
     """photonMapFinalGather's defaults (500 000 + 500 000 photons, irradiance at every 4th) take
     seconds to preprocess; at 1 s they must be cut to half the budget, with a warning and a count."""
-    from gi.cli import render_loaded, render_settings
+    from gi.render import render_loaded, render_settings
     settings = render_settings(loaded, "photonMapFinalGather", {}, 1 << 24, 0, 0, 1.0, SIZE, "box")
     before = len(loaded.scene.warnings())
     result = render_loaded(loaded, settings, "photonMapFinalGather")
@@ -74,7 +74,7 @@ def test_preprocessing_that_would_overrun_scales_down_and_says_so(loaded):
 def test_irradiance_cache_fill_stops_at_the_deadline(loaded):
     """At a budget far below the fill's time the fill stops between phases and the render
     computes what is missing on the fly."""
-    from gi.cli import render_loaded, render_settings
+    from gi.render import render_loaded, render_settings
     settings = render_settings(loaded, "irradianceCache", {}, 1 << 24, 0, 0, 0.3, (256, 256), "box")
     before = len(loaded.scene.warnings())
     result = render_loaded(loaded, settings, "irradianceCache")
@@ -86,7 +86,7 @@ def test_irradiance_cache_fill_stops_at_the_deadline(loaded):
 
 def test_without_a_time_limit_the_image_is_the_same_every_time(loaded):
     """The deadline machinery is off without a time limit: the same seed and spp, the same bits."""
-    from gi.cli import render_loaded, render_settings
+    from gi.render import render_loaded, render_settings
     images = []
     for _ in range(2):
         settings = render_settings(loaded, "path", {}, 5, 7, 0, 0.0, (32, 32), "box")

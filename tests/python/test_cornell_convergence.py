@@ -237,7 +237,7 @@ over "World"
 
 
 def render_caustic_view(scene, integrator, spp, seed, **params):
-    from gi.cli import render_scene
+    from gi.render import render_scene
     result, _, _ = render_scene(str(scene), integrator, params, spp, seed, resolution=CAUSTIC_RESOLUTION,
                                 camera="/World/CausticCamera")
     return rgb(result.color)

@@ -89,7 +89,7 @@ def test_auxiliary_images_guide_the_denoiser(reference):
     """Albedo and normal must reach OIDN: without them (zeros) it blurs the box's edges, so its FLIP is
     higher than the guided result (measured: see README)."""
     from gi import metrics
-    from gi.cli import render_scene
+    from gi.render import render_scene
     denoiser = oidn_or_skip()
     result, _, _ = render_scene(str(CORNELL), "path", {}, NOISY_SPP, 3, resolution=SIZE)
     guided = denoiser.denoise(np.asarray(result.color), np.asarray(result.albedo), np.asarray(result.normal))

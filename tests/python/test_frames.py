@@ -112,7 +112,7 @@ def test_frames_of_a_still_stage_have_decorrelated_noise(tmp_path):
 
 def render_sequence(path, frames, rebuild=False):
     """{frame: colour} through gi.sequence, optionally forcing a scene per frame."""
-    from gi.cli import render_loaded, render_settings
+    from gi.render import render_loaded, render_settings
     from gi.sequence import Sequence
     sequence = Sequence(path, frames)
     out = {}

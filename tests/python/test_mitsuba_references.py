@@ -71,7 +71,7 @@ def blocks(images):
 
 def gi_batches(scene_path, resolution, spp, params=None):
     import gi
-    from gi.cli import render_loaded, render_settings
+    from gi.render import render_loaded, render_settings
     loaded = gi.load_stage(str(scene_path))
     images = []
     for seed in range(BATCHES):

@@ -13,7 +13,7 @@ from conftest import ROOT
 
 _core = pytest.importorskip("gi._core")
 
-from gi.cli import render_settings  # noqa: E402
+from gi.render import render_settings  # noqa: E402
 from gi.loader import load_stage  # noqa: E402
 
 STRESS = ROOT / "scenes" / "stress"
