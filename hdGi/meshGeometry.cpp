@@ -69,26 +69,9 @@ void SetToken(std::string& field, TfToken const& token) {
     if (!token.IsEmpty()) field = token.GetString();
 }
 
-// Which piece each coarse face belongs to: 0 = the mesh's own material, i+1 = subset i.
-std::vector<int> FacePieces(HdMeshTopology const& topology, HdGiMeshPieces& out) {
-    size_t faces = topology.GetFaceVertexCounts().size();
-    std::vector<int> piece(faces, 0);
-    out.materials.assign(1, SdfPath());
-    for (HdGeomSubset const& subset : topology.GetGeomSubsets()) {
-        if (subset.type != HdGeomSubset::TypeFaceSet) continue;
-        int index = int(out.materials.size());
-        out.materials.push_back(subset.materialId);
-        // A face claimed by several subsets (invalid for a materialBind family) goes to the first,
-        // as in the gi loader, so both front ends render such a file alike.
-        for (int f : subset.indices)
-            if (f >= 0 && size_t(f) < faces && piece[size_t(f)] == 0) piece[size_t(f)] = index;
-    }
-    return piece;
-}
-
 }  // namespace
 
-HdGiMeshPieces HdGiTriangulate(SdfPath const&, HdGiMeshInput const& in) {
+HdGiMeshPieces HdGiTriangulate(SdfPath const& id, HdGiMeshInput const& in) {
     HdGiMeshPieces out;
     HdMeshTopology const& topology = in.topology;
     gi::MeshDescription d;
@@ -118,8 +101,18 @@ HdGiMeshPieces HdGiTriangulate(SdfPath const&, HdGiMeshInput const& in) {
     gi::TessellatedMesh t = gi::tessellate(d);
     out.warnings.insert(out.warnings.end(), t.warnings.begin(), t.warnings.end());
     out.refined = t.refined;
-    std::vector<int> facePieces = FacePieces(topology, out);
-    for (gi::TriangleMesh& piece : gi::splitByFace(t.mesh, facePieces, out.materials.size())) {
+    // GeomSubset pieces: piece 0 keeps the mesh's own binding, piece i + 1 is face set i's.
+    std::vector<gi::FaceSubset> subsets;
+    out.materials.assign(1, SdfPath());
+    for (HdGeomSubset const& subset : topology.GetGeomSubsets()) {
+        if (subset.type != HdGeomSubset::TypeFaceSet) continue;
+        subsets.push_back({subset.id.GetString(), ToInts(subset.indices)});
+        out.materials.push_back(subset.materialId);
+    }
+    // Hydra does not carry the subsets' family type: no "partition" check here.
+    gi::SubsetFaces faces = gi::assignSubsetFaces(d.faceVertexCounts.size(), subsets, "", id.GetString());
+    for (gi::SubsetWarning const& w : faces.warnings) out.warnings.push_back(w.subject + ": " + w.message);
+    for (gi::TriangleMesh& piece : gi::splitByFace(t.mesh, faces.pieceOfFace, out.materials.size())) {
         HdGiTriangleMesh m;
         m.points = std::move(piece.positions);
         m.normals = std::move(piece.normals);

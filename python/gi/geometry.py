@@ -101,26 +101,21 @@ def subdivision_rules(mesh, time):
     return rules
 
 
-def mesh_triangles(mesh: UsdGeom.Mesh, time, warn, uv_names=(), refine_level=0, subset_faces=()):
-    """The mesh's triangles (refined `refine_level` times if it is a subdivision surface) in pieces:
-    first the faces in none of `subset_faces` (lists of authored faces, disjoint), then each
-    subset's; an empty piece is None, and the whole is None if no triangle remains (a warning says
-    why when something was wrong). Each piece's `faces` holds its triangles' authored faces."""
+def mesh_triangles(mesh: UsdGeom.Mesh, time, warn, uv_names=(), refine_level=0, piece_of_face=None, pieces=1):
+    """The mesh's triangles (refined `refine_level` times if it is a subdivision surface) in `pieces`
+    pieces by authored face (piece_of_face: see assign_subset_faces; None: one piece); an empty
+    piece is None, and the whole is None if no triangle remains (a warning says why when something
+    was wrong). Each piece's `faces` holds its triangles' authored faces."""
     points = np.asarray(mesh.GetPointsAttr().Get(time) or [], dtype=np.float32).reshape(-1, 3)
     counts = int_array(mesh.GetFaceVertexCountsAttr(), time)
     try:
         from ._core import tessellate_mesh
     except ImportError:  # no compiled renderer (gi inspect): the mesh is counted, not tessellated
         return [Triangles(points, np.zeros((0, 3), np.uint32), faces=np.zeros(0, np.int64))]
-    piece_of_face = None
-    if len(subset_faces):
-        piece_of_face = np.zeros(len(counts), np.int32)
-        for piece, faces in enumerate(subset_faces, start=1):
-            piece_of_face[faces] = piece
     out = tessellate_mesh(np.ascontiguousarray(points), counts, int_array(mesh.GetFaceVertexIndicesAttr(), time),
                           int_array(mesh.GetHoleIndicesAttr(), time), str(mesh.GetOrientationAttr().Get(time)),
                           mesh_normals(mesh, time), mesh_uvs(mesh, time, uv_names), subdivision_rules(mesh, time),
-                          refine_level, piece_of_face, len(subset_faces) + 1)
+                          refine_level, piece_of_face, pieces)
     for message in out["warnings"]:
         warn(message)
     pieces = [None if p["indices"] is None else

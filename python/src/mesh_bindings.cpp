@@ -3,6 +3,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/optional.h>
+#include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
@@ -104,6 +105,21 @@ nb::dict tessellateMesh(const Points& points, const Ints& counts, const Ints& in
     return out;
 }
 
+nb::dict assignSubsetFaces(size_t faceCount, const std::vector<std::pair<std::string, std::optional<Ints>>>& subsets,
+                           const std::string& familyType, const std::string& meshPath) {
+    std::vector<gi::FaceSubset> faceSubsets;
+    for (const auto& [path, indices] : subsets) faceSubsets.push_back({path, toInts(indices)});
+    gi::SubsetFaces faces = gi::assignSubsetFaces(faceCount, faceSubsets, familyType, meshPath);
+    nb::list warnings;
+    for (const gi::SubsetWarning& w : faces.warnings) warnings.append(nb::make_tuple(w.subject, w.message));
+    std::vector<bool> owns(faces.ownsFaces.begin(), faces.ownsFaces.end());
+    nb::dict out;
+    out["piece_of_face"] = faces.pieceOfFace.empty() ? nb::none() : toNumpy(std::move(faces.pieceOfFace), 1);
+    out["owns_faces"] = owns;
+    out["warnings"] = warnings;
+    return out;
+}
+
 }  // namespace
 
 void bindMesh(nb::module_& m) {
@@ -130,4 +146,8 @@ void bindMesh(nb::module_& m) {
           "by piece_of_face (renderer/mesh_pieces.h; None: one piece): a dict of pieces (each a dict of "
           "positions (N, 3), indices (M, 3) or None when empty, normals and uvs per vertex or None, faces (M,): "
           "the authored face of each triangle), warnings and refined. subdivision None: a polygon mesh.");
+    m.def("assign_subset_faces", &assignSubsetFaces, "face_count"_a, "subsets"_a, "family_type"_a, "mesh_path"_a,
+          "Which materialBind face subset owns each face (renderer/mesh_pieces.h): subsets is [(path, int32 "
+          "indices)]; returns piece_of_face (int32, 0 = the mesh's own, i + 1 = subsets[i]; None for no faces), "
+          "owns_faces (per subset) and warnings [(prim path, message)].");
 }

@@ -381,3 +381,24 @@ TEST(MeshDescription, PerCreaseSharpnessesApplyToTheirOwnChains) {
     EXPECT_FLOAT_EQ(top, 1.0f);
     EXPECT_GT(bottom, -0.86f);  // the smooth cube's face centre: -0.849 at level 3
 }
+
+TEST(MeshDescription, SubsetsOwnTheirFacesFirstComeFirstServed) {
+    // 4 faces; /A takes 0 and 1 (1 twice, 7 out of range), /B wants 1 and 2 (1 is /A's), /C only
+    // faces /A owns, /D nothing. A partition leaves face 3 in none.
+    std::vector<FaceSubset> subsets = {{"/A", {0, 1, 1, 7}}, {"/B", {2, 1}}, {"/C", {0}}, {"/D", {}}};
+    SubsetFaces s = assignSubsetFaces(4, subsets, "partition", "/Mesh");
+    EXPECT_EQ(s.pieceOfFace, (std::vector<int>{1, 1, 2, 0}));
+    EXPECT_EQ(s.ownsFaces, (std::vector<char>{1, 1, 0, 0}));
+    auto said = [&](const std::string& subject, const std::string& text) {
+        for (const SubsetWarning& w : s.warnings)
+            if (w.subject == subject && w.message.find(text) != std::string::npos) return true;
+        return false;
+    };
+    EXPECT_TRUE(said("/A", "1 face indices out of range (e.g. 7; /Mesh has 4 faces"));
+    EXPECT_TRUE(said("/A", "1 faces listed more than once (e.g. 1)"));
+    EXPECT_TRUE(said("/B", "1 faces (e.g. 1) are also in /A"));
+    EXPECT_TRUE(said("/C", "are also in /A"));
+    EXPECT_TRUE(said("/D", "has no face indices"));
+    EXPECT_TRUE(said("/Mesh", "'partition' but 1 faces are in none"));
+    EXPECT_EQ(s.warnings.size(), 6u);
+}
