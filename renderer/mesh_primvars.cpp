@@ -36,16 +36,6 @@ std::optional<CheckedPrimvar> checkPrimvar(const MeshPrimvar& primvar, int width
         warnings.push_back(name + " is not " + std::to_string(width) + "-dimensional; ignored");
         return std::nullopt;
     }
-    for (float v : primvar.values)
-        if (!std::isfinite(v)) {
-            warnings.push_back(name + " has NaN/Inf values; ignored");
-            return std::nullopt;
-        }
-    std::optional<Interpolation> interpolation = interpolationFromToken(primvar.interpolation);
-    if (!interpolation) {
-        warnings.push_back(name + " has unsupported interpolation '" + primvar.interpolation + "'; ignored");
-        return std::nullopt;
-    }
     size_t valueCount = primvar.values.size() / size_t(width);
     bool indexed = !primvar.indices.empty();
     for (int i : primvar.indices)
@@ -54,6 +44,20 @@ std::optional<CheckedPrimvar> checkPrimvar(const MeshPrimvar& primvar, int width
                                std::to_string(valueCount) + " values); ignored");
             return std::nullopt;
         }
+    // Only values some element uses count: an indexed primvar may hold others.
+    std::vector<char> used(valueCount, char(!indexed));
+    for (int i : primvar.indices) used[size_t(i)] = 1;
+    for (size_t v = 0; v < valueCount; ++v)
+        for (int c = 0; c < width && used[v]; ++c)
+            if (!std::isfinite(primvar.values[v * size_t(width) + size_t(c)])) {
+                warnings.push_back(name + " has NaN/Inf values; ignored");
+                return std::nullopt;
+            }
+    std::optional<Interpolation> interpolation = interpolationFromToken(primvar.interpolation);
+    if (!interpolation) {
+        warnings.push_back(name + " has unsupported interpolation '" + primvar.interpolation + "'; ignored");
+        return std::nullopt;
+    }
     size_t available = indexed ? primvar.indices.size() : valueCount;
     size_t needed = elementsNeeded(*interpolation, counts);
     if (available < needed) {

@@ -268,3 +268,11 @@ def tessellate_mesh(points: npt.NDArray[np.float32], face_vertex_counts: npt.NDA
     {'pieces': [one dict per piece of piece_of_face (None: one piece): 'positions' (N, 3) float32,
     'indices' (M, 3) uint32 or None when empty, 'normals' / 'uvs' per vertex or None, 'faces' (M,)
     int64 the authored face of each triangle], 'warnings': [str], 'refined': bool}."""
+
+def assign_subset_faces(face_count: int, subsets: Sequence[tuple[str, Optional[npt.NDArray[np.int32]]]],
+                        family_type: str, mesh_path: str) -> dict:
+    """Which materialBind face subset owns each face (renderer/mesh_pieces.h, the Hydra delegate's rule
+    too): valid indices once each, a face claimed by several subsets going to the first, a
+    'partition' family's faces in none reported. Returns {'piece_of_face': int32 (face_count,) (0:
+    the mesh's own, i + 1: subsets[i]; None when face_count is 0), 'owns_faces': [bool] per subset,
+    'warnings': [(prim path, message)]}."""

@@ -135,7 +135,12 @@ TEST(MeshDescription, IndexedFaceVaryingNormalsAreDeIndexedPerCorner) {
         EXPECT_EQ(tri.normals[v].z, expected.z) << v;
         EXPECT_EQ(tri.indices[v], uint32_t(v));
     }
-    m.normals.indices = {0, 1, 0, 2};  // 2 names no value
+    // A value no index names may be anything: the primvar is still used.
+    m.normals.values.insert(m.normals.values.end(), {INFINITY, 0, 0});
+    EXPECT_EQ(tessellate(m).mesh.normals.size(), 6u);
+    m.normals.indices = {0, 1, 0, 2};  // now 2, the infinite value, is used
+    EXPECT_TRUE(warned(tessellate(m), "NaN/Inf"));
+    m.normals.indices = {0, 1, 0, 3};  // 3 names no value
     TessellatedMesh bad = tessellate(m);
     EXPECT_TRUE(warned(bad, "invalid indices"));
     EXPECT_TRUE(bad.mesh.normals.empty());
