@@ -21,7 +21,15 @@ HdGiPrimvar FindPrimvar(HdRprim const& prim, HdSceneDelegate* delegate, TfToken 
     for (size_t i = 0; i < HdInterpolationCount; ++i) {
         auto interpolation = HdInterpolation(i);
         for (HdPrimvarDescriptor const& pv : prim.GetPrimvarDescriptors(delegate, interpolation))
-            if (pv.name == name) return HdGiPrimvar{prim.GetPrimvar(delegate, name), interpolation};
+            if (pv.name == name) {
+                HdGiPrimvar out;
+                out.interpolation = interpolation;
+                // An indexed primvar keeps its indices: OpenSubdiv then sees which face-varying
+                // corners share a value, as the gi loader hands them over.
+                if (pv.indexed) out.value = delegate->GetIndexedPrimvar(prim.GetId(), name, &out.indices);
+                else out.value = prim.GetPrimvar(delegate, name);
+                return out;
+            }
     }
     return HdGiPrimvar();
 }

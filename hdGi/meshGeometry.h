@@ -1,10 +1,12 @@
-// Hydra mesh data to renderer triangles: triangulation (holes included), the primvars the
-// renderer reads (normals, st), GeomSubset material pieces, and OpenSubdiv refinement for
-// subdivision meshes at the host's refine level (no OpenSubdiv work for anything else).
+// Hydra mesh data to renderer triangles: the topology, subdivision tags and the primvars the
+// renderer reads (normals, st) become plain arrays for gi::tessellate (renderer/mesh_description.h),
+// which holds the rules (holes, orientation, interpolations, OpenSubdiv refinement) for both hosts;
+// GeomSubset material pieces are cut by gi::splitByFace.
 #pragma once
 #include <string>
 #include <vector>
 
+#include "pxr/base/vt/types.h"
 #include "pxr/base/vt/value.h"
 #include "pxr/imaging/hd/enums.h"
 #include "pxr/imaging/hd/meshTopology.h"
@@ -16,6 +18,7 @@ PXR_NAMESPACE_OPEN_SCOPE
 struct HdGiPrimvar {
     VtValue value;
     HdInterpolation interpolation = HdInterpolationVertex;
+    VtIntArray indices;  // an indexed primvar's indices (empty: value is per element)
     bool IsEmpty() const { return value.IsEmpty(); }
 };
 

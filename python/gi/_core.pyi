@@ -233,3 +233,46 @@ def read_gltf(path: str) -> dict:
     nodes: [{name, mesh, children, matrix, translation, rotation, scale}], roots, materials
     (metallic-roughness), images: [{name, mime_type, uri (percent-encoded) or bytes}], generator,
     copyright, repaired_normals, warnings}. Raises RuntimeError naming the file."""
+
+class MeshPrimvar:
+    """A mesh primvar for tessellate_mesh: (N, width) float32 values, UsdGeom's interpolation token and
+    optional int32 indices (an indexed primvar's)."""
+    name: str
+    interpolation: str
+    def __init__(self, name: str, values: npt.NDArray[np.float32], interpolation: str,
+                 indices: Optional[npt.NDArray[np.int32]] = None) -> None: ...
+
+class SubdivisionRules:
+    """UsdGeomMesh's subdivision attributes, as its tokens (an unknown token is a warning and the
+    attribute's fallback)."""
+    scheme: str                               # catmullClark (default), loop, bilinear, none
+    interpolate_boundary: str                 # edgeAndCorner (default), edgeOnly, none
+    face_varying_linear_interpolation: str    # cornersPlus1 (default), none, cornersOnly, cornersPlus2, boundaries, all
+    triangle_subdivision_rule: str            # catmullClark (default), smooth
+    crease_indices: list[int]
+    crease_lengths: list[int]
+    crease_sharpnesses: list[float]           # one per crease or one per crease edge
+    corner_indices: list[int]
+    corner_sharpnesses: list[float]
+    def __init__(self) -> None: ...
+
+def tessellate_mesh(points: npt.NDArray[np.float32], face_vertex_counts: npt.NDArray[np.int32],
+                    face_vertex_indices: npt.NDArray[np.int32], hole_indices: Optional[npt.NDArray[np.int32]] = None,
+                    orientation: str = "rightHanded", normals: Optional[MeshPrimvar] = None,
+                    uvs: Optional[MeshPrimvar] = None, subdivision: Optional[SubdivisionRules] = None,
+                    refine_level: int = 0, piece_of_face: Optional[npt.NDArray[np.int32]] = None,
+                    pieces: int = 1) -> dict:
+    """A UsdGeomMesh's arrays as the renderer's triangles, by the rules the Hydra delegate uses too
+    (renderer/mesh_description.h): usable faces, holes, orientation, primvar interpolations,
+    OpenSubdiv refinement `refine_level` times (subdivision None: a polygon mesh). Returns
+    {'pieces': [one dict per piece of piece_of_face (None: one piece): 'positions' (N, 3) float32,
+    'indices' (M, 3) uint32 or None when empty, 'normals' / 'uvs' per vertex or None, 'faces' (M,)
+    int64 the authored face of each triangle], 'warnings': [str], 'refined': bool}."""
+
+def assign_subset_faces(face_count: int, subsets: Sequence[tuple[str, Optional[npt.NDArray[np.int32]]]],
+                        family_type: str, mesh_path: str) -> dict:
+    """Which materialBind face subset owns each face (renderer/mesh_pieces.h, the Hydra delegate's rule
+    too): valid indices once each, a face claimed by several subsets going to the first, a
+    'partition' family's faces in none reported. Returns {'piece_of_face': int32 (face_count,) (0:
+    the mesh's own, i + 1: subsets[i]; None when face_count is 0), 'owns_faces': [bool] per subset,
+    'warnings': [(prim path, message)]}."""

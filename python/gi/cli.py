@@ -8,7 +8,7 @@ import sys
 
 from . import __version__
 from .errors import DenoiserMissing, SceneError
-from .render import CoreMissing, integrator_catalog, preset_catalog
+from .render import COMPLEXITY_REFINE_LEVELS, DEFAULT_COMPLEXITY, CoreMissing, integrator_catalog, preset_catalog
 
 PARAM_TYPES = {"int": int, "float": float}
 
@@ -116,6 +116,9 @@ def add_render_parser(commands, flags):
     render.add_argument("--allow-missing", action="store_true",
                         help="render a stage whose sublayers, references or payloads cannot all be found "
                              "(default: an error naming them)")
+    render.add_argument("--complexity", default=DEFAULT_COMPLEXITY, choices=list(COMPLEXITY_REFINE_LEVELS),
+                        help="subdivision meshes refined 0, 1, 2 or 3 times with OpenSubdiv, as usdrecord's "
+                             f"--complexity (default {DEFAULT_COMPLEXITY}, as usdrecord's: the control cage)")
     render.add_argument("--settings", metavar="PRIM",
                         help="the RenderSettings prim whose RenderProducts are written when -o is not given "
                              "(default: the stage's renderSettingsPrimPath, else the first)")

@@ -1,6 +1,6 @@
-"""UsdGeom prims to the arrays gi._core.Scene.add_mesh takes: polygon meshes (validated,
-fan-triangulated, primvars de-indexed to what the renderer wants) and tessellations of the
-implicit prims the renderer has no exact shape for (cube, cylinder, cone, capsule, plane).
+"""UsdGeom prims to the arrays gi._core.Scene.add_mesh takes: polygon and subdivision meshes (read
+here, tessellated by the renderer's rules through gi._core.tessellate_mesh) and tessellations of
+the implicit prims the renderer has no exact shape for (cube, cylinder, cone, capsule, plane).
 
 `warn(message)` reports a problem; the caller adds the file and prim path."""
 from dataclasses import dataclass
@@ -28,130 +28,37 @@ class Triangles:
         return Triangles(fix(self.positions, np.float32), fix(self.indices, np.uint32),
                          fix(self.normals, np.float32), fix(self.uvs, np.float32), fix(self.faces, np.int64))
 
-    def select(self, which):
-        """The triangles `which` selects (a boolean mask or triangle numbers), over only the vertices
-        they use (normals and uvs are per vertex, so they follow the vertices)."""
-        indices = np.asarray(self.indices)[which]
-        used, compact = np.unique(indices, return_inverse=True)
 
-        def take(a):
-            return None if a is None else a[used]
-        return Triangles(self.positions[used], compact.reshape(-1, 3), take(self.normals), take(self.uvs),
-                         None if self.faces is None else self.faces[which]).contiguous()
+# -- polygon and subdivision meshes -------------------------------------------------------------
+# The rules (usable faces, holes, orientation, primvar interpolation, OpenSubdiv refinement) are the
+# renderer's, shared with the Hydra delegate: gi._core.tessellate_mesh (renderer/mesh_description.h).
+# Here the mesh's attributes are only read.
 
-
-# -- polygon meshes: topology ---------------------------------------------------------------------
-
-def usable_faces(counts, indices, points, warn):
-    """Boolean mask of the faces that can be triangulated; warns once per kind of problem."""
-    face_count = len(counts)
-    ends = np.cumsum(counts)
-    keep = counts >= 3
-    if not keep.all():
-        warn(f"{int((~keep).sum())} faces with fewer than 3 vertices dropped")
-    past_end = ends > len(indices)
-    if past_end.any():
-        warn(f"faceVertexCounts sum to {int(ends[-1])} but there are {len(indices)} faceVertexIndices; "
-             f"{int(past_end.sum())} faces past the end dropped")
-        keep &= ~past_end
-    elif face_count and ends[-1] < len(indices):
-        warn(f"faceVertexCounts sum to {int(ends[-1])} but there are {len(indices)} faceVertexIndices; "
-             f"the extra indices are ignored")
-
-    covered = int(min(ends[-1], len(indices))) if face_count else 0
-    # The corners of each face that exist (a count of 2^31 must not become a 2^31-element array).
-    present = np.clip(np.minimum(ends, covered) - (ends - counts), 0, None)
-    face_of_corner = np.repeat(np.arange(face_count), present)
-    corner_points = indices[:covered]
-
-    def faces_where(corner_is_bad):
-        return np.bincount(face_of_corner[corner_is_bad], minlength=face_count) > 0
-
-    out_of_range = (corner_points < 0) | (corner_points >= len(points))
-    bad = faces_where(out_of_range) & keep
-    if bad.any():
-        warn(f"{int(bad.sum())} faces with out-of-range point indices (valid: 0..{len(points) - 1}) dropped")
-        keep &= ~bad
-
-    finite_point = np.isfinite(points).all(axis=1)
-    uses_nonfinite = np.zeros(covered, bool)
-    uses_nonfinite[~out_of_range] = ~finite_point[corner_points[~out_of_range]]
-    bad = faces_where(uses_nonfinite) & keep
-    if bad.any():
-        warn(f"{int(bad.sum())} faces using NaN/Inf points dropped")
-        keep &= ~bad
-    return keep
+def mesh_primvar(primvar, time, name):
+    """A UsdGeom primvar's authored values, interpolation and indices as a gi._core.MeshPrimvar
+    (None when it has no values)."""
+    return primvar_arrays(primvar.Get(time), primvar.GetInterpolation(),
+                          primvar.GetIndices(time) if primvar.IsIndexed() else None, name)
 
 
-def fan_triangulate(counts, keep):
-    """Triangles (v0, vk, vk+1) of each kept polygon, as (M, 3) positions in faceVertexIndices
-    ("slots"), and the face each triangle came from."""
-    starts = np.cumsum(counts) - counts
-    kept_counts, kept_starts = counts[keep], starts[keep]
-    per_face = kept_counts - 2
-    face_of_triangle = np.repeat(np.flatnonzero(keep), per_face)
-    first = np.repeat(kept_starts, per_face)
-    k = np.arange(per_face.sum()) - np.repeat(np.cumsum(per_face) - per_face, per_face)
-    slots = np.stack([first, first + k + 1, first + k + 2], axis=1)
-    return slots, face_of_triangle
-
-
-# -- polygon meshes: primvars ---------------------------------------------------------------------
-
-@dataclass
-class PrimvarData:
-    """Values that are either per point (shared by the corners using that point) or per corner."""
-    values: np.ndarray
-    per_corner: bool
-
-
-def primvar_data(values, interpolation, topology, what, warn) -> Optional[PrimvarData]:
-    """Resolves a flattened primvar of any interpolation against the triangulation."""
-    if values is None:  # ComputeFlattened fails on out-of-range primvar indices
-        warn(f"{what} has invalid indices; ignored")
+def primvar_arrays(values, interpolation, indices, name):
+    from ._core import MeshPrimvar
+    if values is None or len(values) == 0:
         return None
     values = np.asarray(values, dtype=np.float32)
-    if values.ndim != 2 or len(values) == 0:
-        return None
-    if not np.isfinite(values).all():
-        warn(f"{what} has NaN/Inf values; ignored")
-        return None
-    needed = {UsdGeom.Tokens.vertex: topology.point_count, UsdGeom.Tokens.varying: topology.point_count,
-              UsdGeom.Tokens.faceVarying: topology.corner_count, UsdGeom.Tokens.uniform: topology.face_count,
-              UsdGeom.Tokens.constant: 1}.get(interpolation)
-    if needed is None:
-        warn(f"{what} has unsupported interpolation '{interpolation}'; ignored")
-        return None
-    if len(values) < needed:
-        warn(f"{what} has {len(values)} values but its '{interpolation}' interpolation needs {needed}; ignored")
-        return None
-    if interpolation in (UsdGeom.Tokens.vertex, UsdGeom.Tokens.varying):
-        return PrimvarData(values[:topology.point_count], per_corner=False)
-    if interpolation == UsdGeom.Tokens.constant:
-        return PrimvarData(np.repeat(values[:1], topology.point_count, axis=0), per_corner=False)
-    if interpolation == UsdGeom.Tokens.faceVarying:
-        return PrimvarData(values[topology.slots.reshape(-1)], per_corner=True)
-    return PrimvarData(values[np.repeat(topology.face_of_triangle, 3)], per_corner=True)  # uniform
+    values = np.ascontiguousarray(values.reshape(len(values), -1))
+    indices = None if indices is None else np.ascontiguousarray(indices, dtype=np.int32)
+    return MeshPrimvar(name, values, str(interpolation), indices)
 
 
-@dataclass
-class Topology:
-    point_count: int
-    corner_count: int     # len(faceVertexIndices)
-    face_count: int
-    slots: np.ndarray     # (M, 3) positions in faceVertexIndices
-    face_of_triangle: np.ndarray
-
-
-def mesh_normals(mesh, time, topology, warn) -> Optional[PrimvarData]:
+def mesh_normals(mesh, time):
     """primvars:normals if authored (it wins over the normals attribute), else normals."""
     primvar = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("normals")
     if primvar and primvar.HasAuthoredValue():
-        return primvar_data(primvar.ComputeFlattened(time), primvar.GetInterpolation(), topology,
-                            "primvars:normals", warn)
+        return mesh_primvar(primvar, time, "primvars:normals")
     attribute = mesh.GetNormalsAttr()
     if attribute.HasAuthoredValue():
-        return primvar_data(attribute.Get(time), mesh.GetNormalsInterpolation(), topology, "normals", warn)
+        return primvar_arrays(attribute.Get(time), mesh.GetNormalsInterpolation(), None, "normals")
     return None
 
 
@@ -169,69 +76,52 @@ def uv_primvar(mesh, preferred_names=()):
     return None
 
 
-def mesh_uvs(mesh, time, topology, warn, preferred_names=()) -> Optional[PrimvarData]:
+def mesh_uvs(mesh, time, preferred_names=()):
     primvar = uv_primvar(mesh, preferred_names)
-    if primvar is None:
-        return None
-    data = primvar_data(primvar.ComputeFlattened(time), primvar.GetInterpolation(), topology,
-                        f"primvars:{primvar.GetPrimvarName()}", warn)
-    if data is not None and data.values.shape[1] != 2:
-        warn(f"primvars:{primvar.GetPrimvarName()} is not 2-dimensional; ignored")
-        return None
-    return data
+    return None if primvar is None else mesh_primvar(primvar, time, f"primvars:{primvar.GetPrimvarName()}")
 
 
-# -- polygon meshes: assembly ---------------------------------------------------------------------
-
-def share_points(points, vertex_index, primvars):
-    """Triangles over the points the kept faces use (unused, possibly NaN, points left out)."""
-    used = np.unique(vertex_index)
-    remap = np.full(len(points), -1, np.int64)
-    remap[used] = np.arange(len(used))
-    return Triangles(points[used], remap[vertex_index],
-                     *[None if p is None else p.values[used] for p in primvars])
+def int_array(attribute, time):
+    return np.ascontiguousarray(attribute.Get(time) or [], dtype=np.int32).reshape(-1)
 
 
-def split_corners(points, vertex_index, primvars):
-    """One vertex per triangle corner: needed as soon as any primvar varies per face corner."""
-    corner_points = vertex_index.reshape(-1)
+def subdivision_rules(mesh, time):
+    """The mesh's subdivision scheme and tags as a gi._core.SubdivisionRules."""
+    from ._core import SubdivisionRules
+    rules = SubdivisionRules()
+    rules.scheme = str(mesh.GetSubdivisionSchemeAttr().Get(time))
+    rules.interpolate_boundary = str(mesh.GetInterpolateBoundaryAttr().Get(time))
+    rules.face_varying_linear_interpolation = str(mesh.GetFaceVaryingLinearInterpolationAttr().Get(time))
+    rules.triangle_subdivision_rule = str(mesh.GetTriangleSubdivisionRuleAttr().Get(time))
+    rules.crease_indices = int_array(mesh.GetCreaseIndicesAttr(), time).tolist()
+    rules.crease_lengths = int_array(mesh.GetCreaseLengthsAttr(), time).tolist()
+    rules.crease_sharpnesses = [float(v) for v in mesh.GetCreaseSharpnessesAttr().Get(time) or []]
+    rules.corner_indices = int_array(mesh.GetCornerIndicesAttr(), time).tolist()
+    rules.corner_sharpnesses = [float(v) for v in mesh.GetCornerSharpnessesAttr().Get(time) or []]
+    return rules
 
-    def per_corner(p):
-        if p is None:
-            return None
-        return p.values if p.per_corner else p.values[corner_points]
-    indices = np.arange(len(corner_points)).reshape(-1, 3)
-    return Triangles(points[corner_points], indices, *[per_corner(p) for p in primvars])
 
-
-def mesh_triangles(mesh: UsdGeom.Mesh, time, warn, uv_names=()) -> Optional[Triangles]:
-    """The mesh's valid faces as triangles, or None (with a warning) if none remain; `faces` holds
-    the authored face index of each triangle (what GeomSubset indices refer to)."""
-    points = np.asarray(mesh.GetPointsAttr().Get(time) or [], dtype=np.float64).reshape(-1, 3)
-    counts = np.asarray(mesh.GetFaceVertexCountsAttr().Get(time) or [], dtype=np.int64)
-    indices = np.asarray(mesh.GetFaceVertexIndicesAttr().Get(time) or [], dtype=np.int64)
-    if len(points) == 0 or len(counts) == 0:
-        warn("mesh has no points or no faces; ignored")
-        return None
-    if (counts < 0).any():
-        warn("faceVertexCounts has negative counts; mesh ignored")
-        return None
-    keep = usable_faces(counts, indices, points, warn)
-    if not keep.any():
-        warn("no valid faces remain; mesh ignored")
-        return None
-    slots, face_of_triangle = fan_triangulate(counts, keep)
-    if mesh.GetOrientationAttr().Get(time) == UsdGeom.Tokens.leftHanded:
-        slots = slots[:, [0, 2, 1]]  # the renderer takes counter-clockwise (right-handed) triangles
-    topology = Topology(len(points), len(indices), len(counts), slots, face_of_triangle)
-    primvars = (mesh_normals(mesh, time, topology, warn), mesh_uvs(mesh, time, topology, warn, uv_names))
-    vertex_index = indices[slots]
-    if any(p is not None and p.per_corner for p in primvars):
-        triangles = split_corners(points, vertex_index, primvars)
-    else:
-        triangles = share_points(points, vertex_index, primvars)
-    triangles.faces = face_of_triangle
-    return triangles.contiguous()
+def mesh_triangles(mesh: UsdGeom.Mesh, time, warn, uv_names=(), refine_level=0, piece_of_face=None, pieces=1):
+    """The mesh's triangles (refined `refine_level` times if it is a subdivision surface) in `pieces`
+    pieces by authored face (piece_of_face: see assign_subset_faces; None: one piece); an empty
+    piece is None, and the whole is None if no triangle remains (a warning says why when something
+    was wrong). Each piece's `faces` holds its triangles' authored faces."""
+    points = np.asarray(mesh.GetPointsAttr().Get(time) or [], dtype=np.float32).reshape(-1, 3)
+    counts = int_array(mesh.GetFaceVertexCountsAttr(), time)
+    try:
+        from ._core import tessellate_mesh
+    except ImportError:  # no compiled renderer (gi inspect): the mesh is counted, not tessellated
+        return [Triangles(points, np.zeros((0, 3), np.uint32), faces=np.zeros(0, np.int64))]
+    out = tessellate_mesh(np.ascontiguousarray(points), counts, int_array(mesh.GetFaceVertexIndicesAttr(), time),
+                          int_array(mesh.GetHoleIndicesAttr(), time), str(mesh.GetOrientationAttr().Get(time)),
+                          mesh_normals(mesh, time), mesh_uvs(mesh, time, uv_names), subdivision_rules(mesh, time),
+                          refine_level, piece_of_face, pieces)
+    for message in out["warnings"]:
+        warn(message)
+    pieces = [None if p["indices"] is None else
+              Triangles(p["positions"], p["indices"], p["normals"], p["uvs"], p["faces"]).contiguous()
+              for p in out["pieces"]]
+    return None if all(p is None for p in pieces) else pieces
 
 
 # -- implicit prims ------------------------------------------------------------------------------

@@ -62,8 +62,8 @@ def caustic_kind(desc):
 
 
 def stage_analysis(path):
-    """Subdivision meshes and point instancers, read from the stage itself (the loader renders
-    subdivision meshes as their control cage; the Hydra delegate refines them)."""
+    """Subdivision meshes and point instancers, read from the stage itself (both hosts render
+    subdivision meshes as their control cage at the lowest complexity and refine them above it)."""
     from pxr import Usd, UsdGeom
     stage = Usd.Stage.Open(str(path))
     subdivision, subdivision_faces, point_instancers, instanceable = [], 0, 0, 0
@@ -142,8 +142,8 @@ def format_report(report):
     dome = report["dome_lights"]
     lines.append(f"  needs: textures {yes_no(bool(report['textures']))}")
     lines.append(f"  needs: subdivision {yes_no(bool(subdivision))}"
-                 + (f" ({len(subdivision)} meshes, {report['subdivision_faces']} control faces; `gi render` "
-                    f"renders the cage, the Hydra delegate refines them)" if subdivision else ""))
+                 + (f" ({len(subdivision)} meshes, {report['subdivision_faces']} control faces; refined by "
+                    f"`gi render --complexity` and by the host's complexity in Hydra, the cage at low)" if subdivision else ""))
     for path in subdivision[:10]:
         lines.append(f"      {path}")
     if len(subdivision) > 10:

@@ -25,10 +25,10 @@ POINT_INSTANCER_LIGHTS = "lights in point-instancer prototypes are not supported
 
 @dataclass
 class FaceSubset:
-    """A materialBind GeomSubset: the authored faces it owns and the material it binds."""
+    """A materialBind face subset and the material it binds."""
     path: str
     prim: object
-    faces: np.ndarray     # sorted authored face indices
+    owns_faces: bool      # no face is its own (all out of range, or an earlier subset's): no piece
     material: int = -1
 
 
@@ -94,8 +94,9 @@ def open_stage(path, allow_missing=False):
 class StageLoader:
     """One pass over a stage, adding what it finds to `scene`."""
 
-    def __init__(self, stage, scene, time, file):
+    def __init__(self, stage, scene, time, file, refine_level=0):
         self.stage, self.scene, self.time, self.file = stage, scene, time, file
+        self.refine_level = refine_level
         self.xforms = UsdGeom.XformCache(time)
         self.warnings = []
         self.materials = MaterialLibrary(scene, time, self.warn)
@@ -178,16 +179,23 @@ class StageLoader:
         subsets = []
         if prim.IsA(UsdGeom.Mesh):
             mesh = UsdGeom.Mesh(prim)
-            subsets = self.material_subsets(mesh)
+            subsets, piece_of_face = self.material_subsets(mesh)
             subsets, uv_names = self.subset_materials(subsets, material, uv_names)
-            triangles = mesh_triangles(mesh, self.time, warn, uv_names)
+            pieces = mesh_triangles(mesh, self.time, warn, uv_names, self.refine_level, piece_of_face,
+                                    len(subsets) + 1)
         else:
             triangles = implicit_triangles(prim, self.time, warn)
-        if triangles is None:
+            pieces = None if triangles is None else [triangles]
+        if pieces is None:
             return
         double_sided = bool(UsdGeom.Gprim(prim).GetDoubleSidedAttr().Get(self.time))
         added = 0
-        for piece_name, piece_material, piece in self.pieces(name, material, triangles, subsets):
+        # The faces in no subset under the mesh's name and material, then each subset's faces under
+        # its own path and material (as Hydra splits them).
+        names = [(name, material)] + [(subset.path, subset.material) for subset in subsets]
+        for (piece_name, piece_material), piece in zip(names, pieces):
+            if piece is None:
+                continue
             mesh_id = self.scene.add_mesh(piece_name, piece.positions, piece.indices, piece.normals,
                                           piece.uvs, piece_material, transform, double_sided, prototype)
             if mesh_id >= 0:
@@ -196,42 +204,16 @@ class StageLoader:
         if added:
             self.counts["meshes"] += 1  # a mesh prim, however many pieces its subsets made
 
-    @staticmethod
-    def pieces(name, material, triangles, subsets):
-        """(piece name, material, Triangles) for each non-empty piece: the faces in no subset under
-        the mesh's name and material, then each subset's faces under its own path and material."""
-        if not subsets:
-            return [(name, material, triangles)]
-        piece_of_face = np.zeros(int(triangles.faces.max()) + 1, np.int64)
-        for piece, subset in enumerate(subsets, start=1):
-            faces = subset.faces[subset.faces < len(piece_of_face)]
-            piece_of_face[faces] = piece
-        piece_of_triangle = piece_of_face[triangles.faces]
-        order = np.argsort(piece_of_triangle, kind="stable")  # triangles grouped by piece, in mesh order
-        bounds = np.searchsorted(piece_of_triangle[order], np.arange(len(subsets) + 2))
-        out = []
-        for piece, (piece_name, piece_material) in enumerate(
-                [(name, material)] + [(subset.path, subset.material) for subset in subsets]):
-            which = order[bounds[piece]:bounds[piece + 1]]
-            if len(which) == len(order):
-                out.append((piece_name, piece_material, triangles))
-            elif len(which):
-                out.append((piece_name, piece_material, triangles.select(which)))
-        return out
-
     def material_subsets(self, mesh):
-        """The mesh's materialBind face subsets (authored order), each with the faces it owns:
-        valid indices only, a face claimed by several going to the first. Warns, naming the
-        subset, about empty subsets, out-of-range or repeated indices and overlaps."""
+        """The mesh's materialBind face subsets (authored order) and which of them owns each face
+        (piece_of_face, as gi._core.assign_subset_faces decides it for both hosts: valid indices
+        only, a face claimed by several going to the first, with warnings naming the subset).
+        Subsets that are not face sets or cannot be read are left out here, with a warning."""
         binding = UsdShade.MaterialBindingAPI(mesh.GetPrim())
         subsets = binding.GetMaterialBindSubsets()
         if not subsets:
-            return []
-        mesh_name = str(mesh.GetPath())
-        face_count = len(mesh.GetFaceVertexCountsAttr().Get(self.time) or [])
-        family_type = str(binding.GetMaterialBindSubsetsFamilyType())
-        owner = np.full(face_count, -1, np.int64)   # face -> index into `out`, -1 = the mesh's own
-        out = []
+            return [], None
+        face_sets = []
         for subset in subsets:
             path = str(subset.GetPath())
             element_type = subset.GetElementTypeAttr().Get(self.time)
@@ -243,34 +225,20 @@ class StageLoader:
             except UNREADABLE as error:
                 self.warn(path, f"indices could not be read ({error_text(error)}); subset ignored")
                 continue
-            if len(indices) == 0:
-                self.warn(path, f"materialBind subset of {mesh_name} has no face indices; ignored")
-                continue
-            in_range = (indices >= 0) & (indices < face_count)
-            if not in_range.all():
-                bad = indices[~in_range]
-                self.warn(path, f"{len(bad)} face indices out of range (e.g. {int(bad[0])}; {mesh_name} has "
-                                f"{face_count} faces, valid: 0..{face_count - 1}); those indices are ignored")
-            faces, counts = np.unique(indices[in_range], return_counts=True)
-            if (counts > 1).any():
-                self.warn(path, f"{int((counts > 1).sum())} faces listed more than once (e.g. "
-                                f"{int(faces[counts > 1][0])}); each is used once")
-            claimed = owner[faces] >= 0
-            if claimed.any():
-                for earlier in np.unique(owner[faces[claimed]]):
-                    taken = faces[claimed & (owner[faces] == earlier)]
-                    self.warn(path, f"{len(taken)} faces (e.g. {int(taken[0])}) are also in {out[earlier].path}, but "
-                                    f"materialBind subsets must not overlap (family type '{family_type}'); "
-                                    f"they keep {out[earlier].path}'s material")
-                faces = faces[~claimed]
-            if len(faces) == 0:  # nothing left of it (said above)
-                continue
-            owner[faces] = len(out)
-            out.append(FaceSubset(path, subset.GetPrim(), faces))
-        if family_type == UsdGeom.Tokens.partition and (owner < 0).any():
-            self.warn(mesh_name, f"materialBind subsets are a 'partition' but {int((owner < 0).sum())} faces are "
-                                 f"in none of them; those keep the mesh's material")
-        return out
+            face_sets.append((subset, np.ascontiguousarray(np.clip(indices, -1, 2 ** 31 - 1), np.int32)))
+        try:
+            from ._core import assign_subset_faces
+        except ImportError:  # no compiled renderer (gi inspect): meshes are counted, not cut
+            return [], None
+        if not face_sets:
+            return [], None
+        face_count = len(mesh.GetFaceVertexCountsAttr().Get(self.time) or [])
+        assigned = assign_subset_faces(face_count, [(str(s.GetPath()), indices) for s, indices in face_sets],
+                                       str(binding.GetMaterialBindSubsetsFamilyType()), str(mesh.GetPath()))
+        for subject, message in assigned["warnings"]:
+            self.warn(subject, message)
+        out = [FaceSubset(str(s.GetPath()), s.GetPrim(), owns) for (s, _), owns in zip(face_sets, assigned["owns_faces"])]
+        return out, assigned["piece_of_face"]
 
     def subset_materials(self, subsets, mesh_material, uv_names):
         """Binds each subset's material (resolved on the subset prim as on any gprim: its own binding,
@@ -278,6 +246,8 @@ class StageLoader:
         the uv primvar names every piece's material reads (the mesh's first)."""
         names = list(uv_names)
         for subset in subsets:
+            if not subset.owns_faces:
+                continue
             subset.material, subset_uv_names = self.materials.bind(subset.prim)
             if subset.material < 0:
                 subset.material = mesh_material
@@ -456,7 +426,8 @@ def camera_at(stage, camera_path, time):
                        as_time_code(time))
 
 
-def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missing=False) -> LoadedScene:
+def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missing=False,
+               refine_level=0) -> LoadedScene:
     """Loads the USD file `path` into `scene` (a new gi._core.Scene if None).
 
     camera: a camera prim path overriding the render settings' camera.
@@ -464,12 +435,14 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
     stage: the stage of `path` when it is open already (each frame of a sequence reads it).
     allow_missing: render a stage whose sublayers, references or payloads cannot all be found (each
     is a warning) instead of raising SceneError naming them.
+    refine_level: how many times subdivision meshes are refined (0: their control cage; see
+    render.COMPLEXITY_REFINE_LEVELS).
     Raises SceneError naming the file when it is missing or not USD."""
     file = str(path)
     stage = stage if stage is not None else open_stage(file, allow_missing)
     scene = scene if scene is not None else descriptors.new_scene()
     time = as_time_code(time)
-    loader = StageLoader(stage, scene, time, file)
+    loader = StageLoader(stage, scene, time, file, refine_level)
     for message in missing_layers(stage):
         loader.warn("/", f"not found, rendered without it: {message}")
     loader.load()

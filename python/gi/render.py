@@ -7,6 +7,13 @@ import sys
 from pathlib import Path
 
 
+# usdrecord's --complexity and the refine level UsdImaging gives subdivision meshes for it
+# (UsdImagingGLEngine's _GetRefineLevel of RefinementComplexities 1.0, 1.1, 1.2, 1.3); low, the
+# control cage, is usdrecord's default (UsdAppUtils.complexityArgs) and UsdImagingGLRenderParams'.
+COMPLEXITY_REFINE_LEVELS = {"low": 0, "medium": 1, "high": 2, "veryhigh": 3}
+DEFAULT_COMPLEXITY = "low"
+
+
 class CoreMissing(RuntimeError):
     """gi._core, the compiled renderer, is not built."""
 
@@ -75,10 +82,11 @@ def render_loaded(loaded, settings, label, show_progress=False, camera=None, pro
 
 
 def render_scene(scene_path, integrator="path", params=None, spp=16, seed=0, threads=0, time_limit=0.0,
-                 resolution=None, camera=None, show_progress=False, pixel_filter="box"):
-    """Loads and renders a scene; returns (result, loaded scene, settings)."""
+                 resolution=None, camera=None, show_progress=False, pixel_filter="box", refine_level=0):
+    """Loads and renders a scene (subdivision meshes refined refine_level times); returns (result,
+    loaded scene, settings)."""
     from .loader import load_stage
-    loaded = load_stage(scene_path, camera=camera)
+    loaded = load_stage(scene_path, camera=camera, refine_level=refine_level)
     settings = render_settings(loaded, integrator, params, spp, seed, threads, time_limit, resolution,
                                pixel_filter)
     result = render_loaded(loaded, settings, f"{Path(scene_path).name} [{integrator}]", show_progress)

@@ -9,7 +9,8 @@ from pathlib import Path
 
 from . import __version__
 from .errors import warn
-from .render import progress_bar, render_loaded, render_settings, require_core
+from .render import (COMPLEXITY_REFINE_LEVELS, DEFAULT_COMPLEXITY, progress_bar, render_loaded, render_settings,
+                     require_core)
 
 
 def check_frame_names(args, parser, pattern, flag):
@@ -102,7 +103,8 @@ def cmd_render(args, flags, parser):
         from .denoise import open_denoiser
         denoiser = open_denoiser(args.threads)
     frames = args.frames or [None]
-    sequence = Sequence(args.scene, frames, camera=args.camera, allow_missing=args.allow_missing)
+    sequence = Sequence(args.scene, frames, camera=args.camera, allow_missing=args.allow_missing,
+                        refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity])
     for message in sequence.warnings:
         warn(message)
     targets = render_targets(args, parser, sequence)
@@ -168,6 +170,7 @@ def exr_metadata(args, params, result, loaded, wall_seconds, frame=None, seed=No
     return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": loaded.camera_path,
             "gi:integrator": result.integrator or args.integrator, "gi:auto": result.auto_summary,
             "gi:spp": str(result.spp), "gi:seed": str(args.seed if seed is None else seed),
+            "gi:complexity": getattr(args, "complexity", DEFAULT_COMPLEXITY),
             "gi:frame": "earliest time" if frame is None else str(frame),
             "gi:params": json.dumps(params, sort_keys=True), "gi:preset": args.preset or "",
             "gi:seconds": f"{result.stats.get('seconds', wall_seconds):.3f}",

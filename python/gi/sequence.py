@@ -21,9 +21,12 @@ class Frame:
 
 
 class Sequence:
-    def __init__(self, scene_path, frames, camera=None, time_range_flag="--frames", allow_missing=False):
-        """frames: frame numbers, or [None] for the earliest time; allow_missing: as load_stage's."""
+    def __init__(self, scene_path, frames, camera=None, time_range_flag="--frames", allow_missing=False,
+                 refine_level=0):
+        """frames: frame numbers, or [None] for the earliest time; allow_missing, refine_level: as
+        load_stage's."""
         self.path, self.frames, self.requested_camera = str(scene_path), list(frames), camera
+        self.refine_level = refine_level
         self.stage = open_stage(self.path, allow_missing)
         self.warnings = []
         self.time_range = authored_time_range(self.stage)
@@ -47,7 +50,8 @@ class Sequence:
         first = None
         for number in self.frames:
             if first is None:
-                first = load_stage(self.path, camera=self.requested_camera, time=number, stage=self.stage)
+                first = load_stage(self.path, camera=self.requested_camera, time=number, stage=self.stage,
+                                   refine_level=self.refine_level)
                 if self.time_range is None:
                     self.reuse = "static"
                 elif only_camera_moves(self.stage, first.camera_path):
@@ -59,4 +63,4 @@ class Sequence:
                 yield Frame(number, first, camera_at(self.stage, first.camera_path, number), rebuilt=False)
             else:
                 yield Frame(number, load_stage(self.path, camera=self.requested_camera, time=number,
-                                               stage=self.stage))
+                                               stage=self.stage, refine_level=self.refine_level))

@@ -582,6 +582,7 @@ void bindRendering(nb::module_& m) {
 
 void bindImport(nb::module_& m);    // import_bindings.cpp: read_obj, read_gltf
 void bindDenoiser(nb::module_& m);  // denoise_bindings.cpp: Denoiser, DenoiserUnavailable
+void bindMesh(nb::module_& m);      // mesh_bindings.cpp: tessellate_mesh, MeshPrimvar, SubdivisionRules
 
 NB_MODULE(_core, m) {
     m.doc() = "hdGi's CPU global-illumination renderer";
@@ -590,4 +591,5 @@ NB_MODULE(_core, m) {
     bindRendering(m);
     bindImport(m);
     bindDenoiser(m);
+    bindMesh(m);
 }

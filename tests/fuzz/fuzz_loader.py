@@ -2,15 +2,15 @@
 """Fuzzes the USD loader and the renderer behind it with mutated scenes.
 
 Each iteration takes one of the project's scenes (scenes/**/*.usda under a size limit, the stress
-scenes included), applies a few seeded mutations to its text (numbers replaced by NaN, Inf, 0,
+scenes and the mesh parity stages of tests/parity included), applies a few seeded mutations to its text (numbers replaced by NaN, Inf, 0,
 huge or tiny values; array elements dropped; lines deleted, duplicated or swapped; attribute types
-and tokens changed), loads it with gi.loader.load_stage and renders it at 8x8, 1 spp with a random
-integrator. A load may fail only with SceneError; a render must finish with finite pixels.
+and tokens changed), loads it with gi.loader.load_stage (subdivision meshes refined 0, 1 or 2 times) and renders it at 8x8, 1 spp with a
+random integrator. A load may fail only with SceneError; a render must finish with finite pixels.
 
 A crash (a signal in the renderer) kills the process: the scene being tried is always written
 to <out>/current.usda first, with its seed and mutations in current.txt, so it can be replayed:
 
-    .venv/bin/python tests/fuzz/fuzz_loader.py --replay out/fuzz/current.usda
+    .venv/bin/python tests/fuzz/fuzz_loader.py --replay out/fuzz/current.usda --refine-level L
 
 Usage: fuzz_loader.py [--seed S] [--iterations N] [--seconds T] [--out DIR]
 Exit status 0 when every iteration passed, 1 when one failed (its scene kept in DIR/failures)."""
@@ -61,8 +61,8 @@ def scenes():
     """The project's small text scenes; those sublayering files `gi import` generates (not in the
     repository) are left out, so a seed means the same run on every checkout. (The mutated copies
     are written to the output folder: relative texture paths then miss, which is one more case.)"""
-    return sorted(p for p in (ROOT / "scenes").rglob("*.usda")
-                  if p.stat().st_size <= MAX_SCENE_BYTES and "@generated/" not in p.read_text())
+    candidates = [*(ROOT / "scenes").rglob("*.usda"), *(ROOT / "tests" / "parity").glob("*.usda")]
+    return sorted(p for p in candidates if p.stat().st_size <= MAX_SCENE_BYTES and "@generated/" not in p.read_text())
 
 
 # -- mutations: each takes (text, rng) and returns (text, description) -----------------------------
@@ -152,10 +152,10 @@ FAST = {"photons": 400, "causticPhotons": 400, "paths": 8, "finalGatherSamples":
         "autoHorizon": 0.5}
 
 
-def try_scene(path, integrator):
+def try_scene(path, integrator, refine_level=0):
     """'rejected' (SceneError), or 'rendered'; raises AssertionError (or anything else) on a failure."""
     try:
-        loaded = load_stage(str(path))
+        loaded = load_stage(str(path), refine_level=refine_level)
     except SceneError:
         return "rejected"
     params = {k: v for k, v in FAST.items() if k in TAKES[integrator]}
@@ -178,21 +178,25 @@ def run(seed, iterations, seconds, out):
         source = rng.choice(sources)
         text, mutations = mutate(source.read_text(), rng)
         integrator = rng.choice(INTEGRATORS)
+        # Drawn apart from `rng`, so that a seed keeps its scenes, mutations and integrators.
+        refine_level = random.Random(f"{seed}-{iteration}").choice([0, 1, 2])
         # A new name each time: USD keeps layers it has opened and would not read the file again.
         current = out / f"fuzz_{seed}_{iteration}.usda"
         current.write_text(text)
         (out / "current.usda").write_text(text)
         (out / "current.txt").write_text(json.dumps({"seed": seed, "iteration": iteration, "source": str(source),
-                                                     "integrator": integrator, "mutations": mutations}, indent=1))
+                                                     "integrator": integrator, "refine_level": refine_level,
+                                                     "mutations": mutations}, indent=1))
         began = time.monotonic()
         try:
-            counts[try_scene(current, integrator)] += 1
+            counts[try_scene(current, integrator, refine_level)] += 1
         except Exception:  # noqa: BLE001  -- every other outcome is a finding
             counts["failed"] += 1
             (out / "failures").mkdir(exist_ok=True)
             kept = out / "failures" / f"seed{seed}_{iteration}.usda"
             shutil.copy(current, kept)
-            print(f"FAIL {kept} ({source.name}, {integrator}, {mutations}):\n{traceback.format_exc()}", flush=True)
+            print(f"FAIL {kept} ({source.name}, {integrator}, refine level {refine_level}, {mutations}):\n"
+                  f"{traceback.format_exc()}", flush=True)
         finally:
             current.unlink(missing_ok=True)
         took = time.monotonic() - began
@@ -215,10 +219,11 @@ def main(argv=None):
     parser.add_argument("--seconds", type=float)
     parser.add_argument("--out", type=Path, default=ROOT / "out" / "fuzz")
     parser.add_argument("--replay", type=Path, help="load and render one scene under every integrator")
+    parser.add_argument("--refine-level", type=int, default=0, help="with --replay: subdivision refine level")
     args = parser.parse_args(argv)
     if args.replay:
         for integrator in INTEGRATORS:
-            print(integrator, try_scene(args.replay, integrator), flush=True)
+            print(integrator, try_scene(args.replay, integrator, args.refine_level), flush=True)
         return 0
     if args.iterations is None and args.seconds is None:
         args.iterations = 200

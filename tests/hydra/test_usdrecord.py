@@ -34,11 +34,11 @@ def gi_render(tmp_path, name, integrator, spp, seed, extra=()):
     return read_rgb(output), seconds
 
 
-def gi_render_scene(tmp_path, scene, integrator, spp, seed, width, height):
+def gi_render_scene(tmp_path, scene, integrator, spp, seed, width, height, *extra):
     output = tmp_path / f"{scene.stem}-cli.exr"
     subprocess.run([str(REPO / ".venv/bin/gi"), "render", str(scene), "--integrator", integrator, "--spp", str(spp),
-                    "--seed", str(seed), "--resolution", str(width), str(height), "-o", str(output), "--no-png"],
-                   check=True, capture_output=True)
+                    "--seed", str(seed), "--resolution", str(width), str(height), "-o", str(output), "--no-png",
+                    *extra], check=True, capture_output=True)
     return read_rgb(output)
 
 
