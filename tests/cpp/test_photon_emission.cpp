@@ -40,14 +40,7 @@ void addSun(Scene& scene) {
 }
 
 void addSunAndSky(Scene& scene) {
-    LightDesc sun;
-    sun.name = "/Sun";
-    sun.kind = "distant";
-    sun.intensity = kSunIrradiance;
-    sun.angle = 0.53f;
-    sun.normalize = true;  // intensity = irradiance at normal incidence (UsdLux)
-    sun.transform = alongMinusZ(-kToSun);
-    scene.addLight(sun);
+    addSun(scene);
     LightDesc sky;
     sky.name = "/Sky";
     sky.kind = "dome";
