@@ -17,6 +17,10 @@ struct CameraDesc {
     float fStop = 0;
     float focusDistance = 0;
     float clipNear = 1e-4f, clipFar = 1e30f;
+    // UsdGeomCamera's shutter:open and shutter:close, in frames relative to the rendered time.
+    // Motion geometry (motion.h) spans [open, close]; when close > open each camera ray gets a
+    // time in it, otherwise every ray sees shutter open (close < open is a host's mistake: warned).
+    float shutterOpen = 0, shutterClose = 0;
     Mat4 transform;  // camera to world, USD convention
     // A host that has already conformed the camera to its viewport (Hydra) gives its projection
     // matrix instead (OpenGL convention, row vectors: NDC [-1,1]^2 spans the image); the
@@ -33,6 +37,7 @@ public:
     // filmX, filmY in pixels (x right, y down); lens sample in [0,1)^2.
     Ray generateRay(float filmX, float filmY, Vec2 lens) const;
     Vec3 position() const { return position_; }
+    bool hasShutterInterval() const { return desc_.shutterClose > desc_.shutterOpen; }  // false for NaN
     Vec3 forward() const { return forward_; }
 
 private:

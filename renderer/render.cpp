@@ -81,6 +81,10 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
             scene.warn("camera " + desc.name + ": NaN or Inf in its lens or clipping settings; defaults used there");
             break;
         }
+    if (desc.shutterClose < desc.shutterOpen || std::isnan(desc.shutterOpen) || std::isnan(desc.shutterClose))
+        scene.warn("camera " + desc.name + ": shutter:close (" + std::to_string(desc.shutterClose) +
+                   ") is before shutter:open (" + std::to_string(desc.shutterOpen) +
+                   ") or not a number; rendered without motion blur");
     cameraDesc_ = desc;
     camera_ = Camera(desc, settings.width, settings.height);
 }
@@ -234,6 +238,7 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
                         Vec2 lens = sampler.get2D();
                         float fx = x + pixel.x, fy = y + pixel.y;
                         Ray ray = camera_.generateRay(fx, fy, lens);
+                        if (camera_.hasShutterInterval()) ray.time = sampler.shutterTime();
                         SampleAovs aovs;
                         Color L = integrator_->Li(ray, scene_, sampler, c.rays, &aovs);
                         if (!isFinite(L) || L.x < 0 || L.y < 0 || L.z < 0) {

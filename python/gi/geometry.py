@@ -20,13 +20,16 @@ class Triangles:
     normals: Optional[np.ndarray] = None   # (N, 3) float32
     uvs: Optional[np.ndarray] = None       # (N, 2) float32
     faces: Optional[np.ndarray] = None     # (M,) int64: the authored face each triangle came from
+    # (N,) int64: the authored point each vertex is (a deforming mesh's points at other times map through it)
+    point_of_vertex: Optional[np.ndarray] = None
 
     def contiguous(self):
         """nanobind takes C-contiguous arrays of exactly these dtypes."""
         def fix(a, dtype):
             return None if a is None else np.ascontiguousarray(a, dtype=dtype)
         return Triangles(fix(self.positions, np.float32), fix(self.indices, np.uint32),
-                         fix(self.normals, np.float32), fix(self.uvs, np.float32), fix(self.faces, np.int64))
+                         fix(self.normals, np.float32), fix(self.uvs, np.float32), fix(self.faces, np.int64),
+                         fix(self.point_of_vertex, np.int64))
 
     def select(self, which):
         """The triangles `which` selects (a boolean mask or triangle numbers), over only the vertices
@@ -37,7 +40,7 @@ class Triangles:
         def take(a):
             return None if a is None else a[used]
         return Triangles(self.positions[used], compact.reshape(-1, 3), take(self.normals), take(self.uvs),
-                         None if self.faces is None else self.faces[which]).contiguous()
+                         None if self.faces is None else self.faces[which], take(self.point_of_vertex)).contiguous()
 
 
 # -- polygon meshes: topology ---------------------------------------------------------------------
@@ -189,7 +192,7 @@ def share_points(points, vertex_index, primvars):
     remap = np.full(len(points), -1, np.int64)
     remap[used] = np.arange(len(used))
     return Triangles(points[used], remap[vertex_index],
-                     *[None if p is None else p.values[used] for p in primvars])
+                     *[None if p is None else p.values[used] for p in primvars], point_of_vertex=used)
 
 
 def split_corners(points, vertex_index, primvars):
@@ -201,7 +204,8 @@ def split_corners(points, vertex_index, primvars):
             return None
         return p.values if p.per_corner else p.values[corner_points]
     indices = np.arange(len(corner_points)).reshape(-1, 3)
-    return Triangles(points[corner_points], indices, *[per_corner(p) for p in primvars])
+    return Triangles(points[corner_points], indices, *[per_corner(p) for p in primvars],
+                     point_of_vertex=corner_points)
 
 
 def mesh_triangles(mesh: UsdGeom.Mesh, time, warn, uv_names=()) -> Optional[Triangles]:

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from pxr import Gf, Usd, UsdGeom, UsdLux, UsdRender, UsdShade
 
-from . import descriptors
+from . import descriptors, motion
 from .errors import SceneError
 from .geometry import IMPLICIT_TYPES, implicit_triangles, mesh_triangles
 from .lights import is_light, light_desc
@@ -43,6 +43,9 @@ class LoadedScene:
     light_kinds: dict = field(default_factory=dict)  # 'rect' -> how many, ...
     textures: dict = field(default_factory=dict)     # texture asset path -> resolved file, None if missing
     prims: int = 0                                   # prims on the stage
+    # prims rendered with motion blur -> what moves ('transform', 'deformation'); empty when nothing moves
+    moving: dict = field(default_factory=dict)
+    shutter: object = None                           # motion.Shutter, or None (no motion blur)
 
 
 def matrix(gf_matrix):
@@ -94,9 +97,12 @@ def open_stage(path, allow_missing=False):
 class StageLoader:
     """One pass over a stage, adding what it finds to `scene`."""
 
-    def __init__(self, stage, scene, time, file):
+    def __init__(self, stage, scene, time, file, shutter=None):
         self.stage, self.scene, self.time, self.file = stage, scene, time, file
+        self.shutter = shutter  # motion.Shutter: moving prims are sampled over it
         self.xforms = UsdGeom.XformCache(time)
+        self.step_xforms = {}   # time -> XformCache, for the motion steps
+        self.moving = {}        # prim path -> sorted kinds of motion
         self.warnings = []
         self.materials = MaterialLibrary(scene, time, self.warn)
         self.prototypes = {}    # prototype root path -> prototype id
@@ -108,6 +114,35 @@ class StageLoader:
 
     def world(self, prim):
         return self.xforms.GetLocalToWorldTransform(prim)
+
+    # -- motion blur -----------------------------------------------------------------------------
+    def motion_times(self, prim, attributes=(), xform=True):
+        """The step times of `prim`'s motion over the shutter (its transform's if `xform`, and
+        `attributes`'), or None when nothing of it can move."""
+        if self.shutter is None:
+            return None
+        xform_times = motion.xform_sample_times(prim, self.shutter) if xform else None
+        attribute_times = motion.attribute_sample_times(attributes, self.shutter)
+        if xform_times is None and attribute_times is None:
+            return None
+        return motion.step_times(self.shutter, (xform_times or []) + (attribute_times or []))
+
+    def world_at(self, prim, time):
+        if time not in self.step_xforms:
+            self.step_xforms[time] = UsdGeom.XformCache(Usd.TimeCode(time))
+        return self.step_xforms[time].GetLocalToWorldTransform(prim)
+
+    def transform_steps(self, prim, times):
+        """(steps, 4, 4) world transforms of `prim` at `times`, or None if they do not change."""
+        if not times:
+            return None
+        steps = np.stack([matrix(self.world_at(prim, t)) for t in times])
+        return steps if motion.moving(steps) else None
+
+    def note_motion(self, prim, kind):
+        kinds = self.moving.setdefault(str(prim.GetPath()), [])
+        if kind not in kinds:
+            kinds.append(kind)
 
     def is_rendered(self, prim):
         """Visible (inherited visibility) and of the default or render purpose."""
@@ -164,10 +199,21 @@ class StageLoader:
 
     def add_sphere(self, prim, transform, prototype):
         material, _ = self.materials.bind(prim)
-        radius = float(UsdGeom.Sphere(prim).GetRadiusAttr().Get(self.time))
+        radius_attribute = UsdGeom.Sphere(prim).GetRadiusAttr()
+        radius = float(radius_attribute.Get(self.time))
         name = str(prim.GetPath())
-        if self.scene.add_sphere(name, (0.0, 0.0, 0.0), radius, material, transform, prototype) >= 0:
+        steps = None
+        times = self.motion_times(prim, [radius_attribute]) if prototype < 0 else None
+        if times and radius > 0:
+            # A changing radius is a scale of the unit of the sphere's own space (row vectors: scale first).
+            scales = [Gf.Matrix4d().SetScale(float(radius_attribute.Get(t)) / radius) for t in times]
+            steps = np.stack([matrix(scale * self.world_at(prim, t)) for scale, t in zip(scales, times)])
+            steps = steps if motion.moving(steps) else None
+        if self.scene.add_sphere(name, (0.0, 0.0, 0.0), radius, material, transform, prototype,
+                                 motion_transforms=steps) >= 0:
             self.counts["spheres"] += 1
+            if steps is not None:
+                self.note_motion(prim, "transform")
 
     def add_triangles(self, prim, transform, prototype):
         """A mesh, or a tessellated cube / cylinder / cone / capsule / plane. A mesh's materialBind
@@ -186,15 +232,45 @@ class StageLoader:
         if triangles is None:
             return
         double_sided = bool(UsdGeom.Gprim(prim).GetDoubleSidedAttr().Get(self.time))
+        point_steps, transform_steps = self.mesh_motion(prim, triangles, prototype)
         added = 0
         for piece_name, piece_material, piece in self.pieces(name, material, triangles, subsets):
+            piece_points = None if point_steps is None else np.ascontiguousarray(
+                point_steps[:, piece.point_of_vertex], np.float32)
             mesh_id = self.scene.add_mesh(piece_name, piece.positions, piece.indices, piece.normals,
-                                          piece.uvs, piece_material, transform, double_sided, prototype)
+                                          piece.uvs, piece_material, transform, double_sided, prototype,
+                                          motion_points=piece_points, motion_transforms=transform_steps)
             if mesh_id >= 0:
                 added += 1
                 self.counts["triangles"] += len(piece.indices)
         if added:
             self.counts["meshes"] += 1  # a mesh prim, however many pieces its subsets made
+            if transform_steps is not None:
+                self.note_motion(prim, "transform")
+            if point_steps is not None:
+                self.note_motion(prim, "deformation")
+
+    def mesh_motion(self, prim, triangles, prototype):
+        """The mesh's authored points (steps, points, 3) and world transforms (steps, 4, 4) over the
+        shutter, each None when it does not change. A prototype's meshes move with their instances
+        (their transform relative to the prototype is taken as fixed), but may deform."""
+        points = UsdGeom.Mesh(prim).GetPointsAttr() if prim.IsA(UsdGeom.Mesh) else None
+        deforms = points is not None and triangles.point_of_vertex is not None
+        times = self.motion_times(prim, [points] if deforms else [], xform=prototype < 0)
+        if not times:
+            return None, None
+        point_steps = None
+        if deforms and points.ValueMightBeTimeVarying():
+            steps = [np.asarray(points.Get(t) or [], np.float64).reshape(-1, 3) for t in times]
+            needed = int(triangles.point_of_vertex.max()) + 1
+            if any(len(step) != len(steps[0]) or len(step) < needed for step in steps):
+                self.warn(str(prim.GetPath()), f"the number of points changes during the shutter "
+                                               f"({sorted({len(step) for step in steps})}); rendered without "
+                                               f"deformation blur")
+            elif motion.moving(steps):
+                point_steps = np.stack(steps)
+        transform_steps = self.transform_steps(prim, times) if prototype < 0 else None
+        return point_steps, transform_steps
 
     @staticmethod
     def pieces(name, material, triangles, subsets):
@@ -309,13 +385,16 @@ class StageLoader:
                 self.warn(prim.GetPath(), holds_lights_warning)
         return prototype
 
-    def add_instance(self, prototype, transform, name):
-        if self.scene.add_instance(prototype, matrix(transform), name) >= 0:
+    def add_instance(self, prototype, transform, name, steps=None, prim=None):
+        if self.scene.add_instance(prototype, matrix(transform), name, motion_transforms=steps) >= 0:
             self.counts["instances"] += 1
+            if steps is not None and prim is not None:
+                self.note_motion(prim, "transform")
 
     def add_instanceable(self, prim):
         """An instanceable prim: its prototype's geometry once, then one instance of it here."""
-        self.add_instance(self.prototype_for(prim.GetPrototype()), self.world(prim), str(prim.GetPath()))
+        self.add_instance(self.prototype_for(prim.GetPrototype()), self.world(prim), str(prim.GetPath()),
+                          self.transform_steps(prim, self.motion_times(prim)), prim)
         self.add_lights_inside(prim)
 
     def add_lights_inside(self, instance):
@@ -342,6 +421,7 @@ class StageLoader:
             return
         shown = instancer.ComputeMaskAtTime(self.time) or [True] * len(proto_indices)  # invisible/inactive ids
         instancer_world = self.world(prim)
+        step_local, step_worlds = self.instancer_motion(instancer, len(local))
         for i, (index, transform) in enumerate(zip(proto_indices, local)):
             if not shown[i]:
                 continue
@@ -351,7 +431,29 @@ class StageLoader:
             root = roots[index]
             root_local, _ = self.xforms.GetLocalTransformation(root)
             prototype = self.prototype_for(root, POINT_INSTANCER_LIGHTS)
-            self.add_instance(prototype, root_local * transform * instancer_world, f"{path}[{i}]")
+            steps = None
+            if step_local is not None:
+                steps = np.stack([matrix(root_local * step[i] * world) for step, world in zip(step_local, step_worlds)])
+                steps = steps if motion.moving(steps) else None
+            self.add_instance(prototype, root_local * transform * instancer_world, f"{path}[{i}]", steps, prim)
+
+    def instancer_motion(self, instancer, count):
+        """Each instance's transform relative to the instancer at each motion step (USD extrapolates
+        velocities and angular velocities over the shutter), and the instancer's world transforms;
+        (None, None) when nothing can move."""
+        attributes = [instancer.GetPositionsAttr(), instancer.GetOrientationsAttr(), instancer.GetScalesAttr(),
+                      instancer.GetVelocitiesAttr(), instancer.GetAngularVelocitiesAttr()]
+        times = self.motion_times(instancer.GetPrim(), attributes)
+        if not times:
+            return None, None
+        step_local = instancer.ComputeInstanceTransformsAtTimes(
+            [Usd.TimeCode(t) for t in times], self.time, UsdGeom.PointInstancer.ExcludeProtoXform,
+            UsdGeom.PointInstancer.IgnoreMask)
+        if len(step_local) != len(times) or any(len(step) != count for step in step_local):
+            self.warn(str(instancer.GetPath()), "instance transforms could not be computed over the shutter; "
+                                                "rendered without motion blur")
+            return None, None
+        return step_local, [self.world_at(instancer.GetPrim(), t) for t in times]
 
     # -- lights ----------------------------------------------------------------------------------
     def add_light(self, prim, world):
@@ -412,6 +514,9 @@ def camera_desc(prim, world, time):
     desc.focus_distance = float(camera.GetFocusDistanceAttr().Get(time))
     near, far = camera.GetClippingRangeAttr().Get(time)
     desc.clipping_range = (float(near), float(far))
+    # As authored: the renderer warns, naming the camera, when close < open.
+    desc.shutter_open = float(camera.GetShutterOpenAttr().Get(time))
+    desc.shutter_close = float(camera.GetShutterCloseAttr().Get(time))
     desc.transform = matrix(world)
     return desc
 
@@ -469,19 +574,25 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
     stage = stage if stage is not None else open_stage(file, allow_missing)
     scene = scene if scene is not None else descriptors.new_scene()
     time = as_time_code(time)
-    loader = StageLoader(stage, scene, time, file)
+    settings = render_settings(stage)
+    prim = camera_prim(stage, settings, camera, file)
+    shutter = None
+    if prim is not None:
+        try:
+            shutter = motion.camera_shutter(prim, settings, time, motion.frame_time(stage, time))
+        except UNREADABLE:  # reported with the rest of the camera below
+            pass
+    loader = StageLoader(stage, scene, time, file, shutter)
     for message in missing_layers(stage):
         loader.warn("/", f"not found, rendered without it: {message}")
     loader.load()
 
-    settings = render_settings(stage)
     try:
         resolution = settings_resolution(settings, time)
     except UNREADABLE as error:
         loader.warn(str(settings.GetPath()), f"resolution could not be read ({error_text(error)}); "
                                              f"using {DEFAULT_RESOLUTION}")
         resolution = DEFAULT_RESOLUTION
-    prim = camera_prim(stage, settings, camera, file)
     desc = None
     if prim is not None:
         try:
@@ -500,4 +611,4 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
 
     counts = dict(loader.counts, materials=loader.materials.added)
     return LoadedScene(scene, resolution, camera_path, loader.warnings, counts, dict(loader.light_kinds),
-                       dict(loader.materials.textures), sum(1 for _ in stage.TraverseAll()))
+                       dict(loader.materials.textures), sum(1 for _ in stage.TraverseAll()), loader.moving, shutter)

@@ -1,0 +1,87 @@
+"""Motion blur in the USD loader: the camera's shutter interval, and the time codes within it at
+which a moving prim is sampled for the renderer's motion geometry (gi._core's motion_points and
+motion_transforms: evenly spaced steps, the first at shutter open, the last at shutter close).
+
+The renderer interpolates linearly between steps, as USD interpolates between time samples, so
+steps that include every authored sample inside the shutter reproduce USD's motion exactly: the
+grid is the shutter's endpoints plus its authored samples when those are evenly spaced, else the
+evenly spaced grid fine enough for the closest two of them (at most MAX_STEPS)."""
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+from pxr import Gf, UsdGeom
+
+MAX_STEPS = 64  # the renderer's kMaxMotionSteps
+
+
+@dataclass(frozen=True)
+class Shutter:
+    """The time codes [open, close] the camera's shutter spans (frame + shutter:open/close)."""
+    open: float
+    close: float
+
+    def interval(self):
+        return Gf.Interval(self.open, self.close)
+
+
+def frame_time(stage, time) -> float:
+    """The frame number the shutter opens and closes around: `time`'s, or for the earliest time (a
+    render without frames) the stage's start time code."""
+    if time.IsEarliestTime() or time.IsDefault():
+        return float(stage.GetStartTimeCode())
+    return float(time.GetValue())
+
+
+def camera_shutter(camera, settings, time, frame) -> Optional[Shutter]:
+    """The shutter interval of `camera` (a UsdGeom.Camera prim) around `frame`, its attributes read
+    at `time`; None when every ray sees one instant: no interval (close <= open: the renderer warns
+    about close < open, naming the camera), or the render settings' disableMotionBlur or
+    instantaneousShutter."""
+    if settings is not None:
+        for attribute in (settings.GetDisableMotionBlurAttr(), settings.GetInstantaneousShutterAttr()):
+            if attribute and attribute.Get(time):
+                return None
+    schema = UsdGeom.Camera(camera)
+    opening, closing = schema.GetShutterOpenAttr().Get(time), schema.GetShutterCloseAttr().Get(time)
+    if opening is None or closing is None or not closing > opening:
+        return None
+    return Shutter(frame + float(opening), frame + float(closing))
+
+
+def step_times(shutter: Shutter, sample_times) -> list:
+    """Evenly spaced times from shutter open to close that include `sample_times` (those inside the
+    shutter) when they are evenly spaced, and are at least as fine as their closest pair otherwise."""
+    inside = sorted({float(t) for t in sample_times if shutter.open < t < shutter.close})
+    times = [shutter.open, *inside, shutter.close]
+    span = shutter.close - shutter.open
+    closest = min(b - a for a, b in zip(times, times[1:]))
+    segments = min(MAX_STEPS - 1, max(1, math.ceil(span / closest - 1e-9)))
+    return [shutter.open + span * i / segments for i in range(segments + 1)]
+
+
+def xform_sample_times(prim, shutter: Shutter) -> list:
+    """The authored transform samples of `prim` and its ancestors inside the shutter; None when no
+    transform among them can change over time."""
+    times, varying = [], False
+    while prim and not prim.IsPseudoRoot():
+        xformable = UsdGeom.Xformable(prim)
+        if xformable and xformable.TransformMightBeTimeVarying():
+            varying = True
+            times += xformable.GetTimeSamplesInInterval(shutter.interval())
+        prim = prim.GetParent()
+    return times if varying else None
+
+
+def attribute_sample_times(attributes, shutter: Shutter) -> list:
+    """The samples of `attributes` inside the shutter; None when none of them can change over time."""
+    varying = [a for a in attributes if a and a.ValueMightBeTimeVarying()]
+    if not varying:
+        return None
+    return [t for a in varying for t in a.GetTimeSamplesInInterval(shutter.interval())]
+
+
+def moving(steps) -> bool:
+    """Whether the per-step arrays differ (the renderer builds motion geometry only then)."""
+    return any(not np.array_equal(steps[0], step) for step in steps[1:])
