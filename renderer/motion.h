@@ -69,4 +69,33 @@ inline Mat4 atTime(const std::vector<Mat4>& steps, float time) {
     return r;
 }
 
+// A host's motion samples (Hydra's SampleTransform / SamplePrimvar: increasing times relative to
+// the frame, the shutter's boundaries among them) onto the evenly spaced steps the renderer takes:
+// the sample times themselves when evenly spaced, otherwise a grid as fine as their closest pair
+// (at most kMaxMotionSteps); the same rule as the USD loader's (python/gi/motion.py step_times).
+inline std::vector<float> evenStepTimes(std::vector<float> times) {
+    std::sort(times.begin(), times.end());
+    times.erase(std::unique(times.begin(), times.end()), times.end());
+    if (times.size() < 2 || !std::isfinite(times.front()) || !std::isfinite(times.back())) return {};
+    float closest = times.back() - times.front();
+    for (size_t i = 1; i < times.size(); ++i) closest = std::min(closest, times[i] - times[i - 1]);
+    float span = times.back() - times.front();
+    size_t segments = std::clamp<size_t>(size_t(std::ceil(span / closest - 1e-4f)), 1, kMaxMotionSteps - 1);
+    std::vector<float> grid(segments + 1);
+    for (size_t i = 0; i <= segments; ++i) grid[i] = times.front() + span * float(i) / float(segments);
+    grid.back() = times.back();
+    return grid;
+}
+
+// The value at `t` of samples at increasing `times`, interpolated linearly by lerp(a, b, fraction)
+// (held before the first and after the last).
+template <typename T, typename Lerp>
+T sampleAt(const std::vector<float>& times, const std::vector<T>& values, float t, Lerp lerp) {
+    if (times.size() < 2 || t <= times.front()) return values.front();
+    if (t >= times.back()) return values.back();
+    size_t i = size_t(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+    float fraction = (t - times[i - 1]) / (times[i] - times[i - 1]);
+    return lerp(values[i - 1], values[i], fraction);
+}
+
 }  // namespace gi
