@@ -75,13 +75,38 @@ private:
     std::map<std::string, int> _ids;
 };
 
+// The prim's motion over the shutter as the renderer's even steps (renderer/motion.h): its
+// transform's (top-level prims only: instances move by their instancer) and `mesh`'s deformation.
+gi::MotionSteps MotionOf(HdGiGeometry const& g, HdGiTriangleMesh const* mesh, int prototype) {
+    bool moves = prototype < 0 && g.transformTimes.size() > 1;
+    bool deforms = mesh && mesh->pointTimes.size() > 1;
+    std::vector<float> times;
+    if (moves) times = g.transformTimes;
+    if (deforms) times.insert(times.end(), mesh->pointTimes.begin(), mesh->pointTimes.end());
+    gi::MotionSteps motion;
+    for (float t : gi::evenStepTimes(times)) {
+        if (moves)
+            motion.transforms.push_back(HdGiToMat4(gi::sampleAt(
+                g.transformTimes, g.transformSamples, t,
+                [](GfMatrix4d const& a, GfMatrix4d const& b, float f) { return a * double(1 - f) + b * double(f); })));
+        if (deforms)
+            motion.points.push_back(gi::sampleAt(mesh->pointTimes, mesh->pointSamples, t,
+                                                 [](std::vector<gi::Vec3> const& a, std::vector<gi::Vec3> const& b, float f) {
+                                                     std::vector<gi::Vec3> out(a.size());
+                                                     for (size_t i = 0; i < a.size(); ++i) out[i] = gi::lerp(a[i], b[i], f);
+                                                     return out;
+                                                 }));
+    }
+    return motion;
+}
+
 // Adds the prim's shapes (a sphere, or one mesh per material piece); returns their ids.
 std::vector<int> AddShapes(gi::Scene& scene, HdGiGeometry const& g, MaterialBinder& binder, gi::Mat4 const& transform,
                            int prototype) {
     std::vector<int> shapes;
     if (g.isSphere) {
         shapes.push_back(scene.addSphere(g.name, gi::Vec3(0.0f), g.radius, binder.Bind(g, SdfPath()), &transform,
-                                         prototype));
+                                         prototype, MotionOf(g, nullptr, prototype)));
         return shapes;
     }
     for (size_t i = 0; i < g.pieces.size(); ++i) {
@@ -90,7 +115,7 @@ std::vector<int> AddShapes(gi::Scene& scene, HdGiGeometry const& g, MaterialBind
         SdfPath material = i < g.pieceMaterials.size() ? g.pieceMaterials[i] : SdfPath();
         std::string name = g.pieces.size() > 1 && !material.IsEmpty() ? g.name + " (" + material.GetString() + ")" : g.name;
         shapes.push_back(scene.addMesh(name, m.points, m.indices, m.normals, m.uvs, binder.Bind(g, material), &transform,
-                                       g.doubleSided, prototype));
+                                       g.doubleSided, prototype, MotionOf(g, &m, prototype)));
     }
     return shapes;
 }
