@@ -116,14 +116,14 @@ class StageLoader:
         return self.xforms.GetLocalToWorldTransform(prim)
 
     # -- motion blur -----------------------------------------------------------------------------
-    def motion_times(self, prim, attributes=(), xform=True):
+    def motion_times(self, prim, attributes=(), xform=True, moves=False):
         """The step times of `prim`'s motion over the shutter (its transform's if `xform`, and
-        `attributes`'), or None when nothing of it can move."""
+        `attributes`'), or None when nothing of it can move (unless `moves`: velocities move it)."""
         if self.shutter is None:
             return None
         xform_times = motion.xform_sample_times(prim, self.shutter) if xform else None
         attribute_times = motion.attribute_sample_times(attributes, self.shutter)
-        if xform_times is None and attribute_times is None:
+        if xform_times is None and attribute_times is None and not moves:
             return None
         return motion.step_times(self.shutter, (xform_times or []) + (attribute_times or []))
 
@@ -441,9 +441,11 @@ class StageLoader:
         """Each instance's transform relative to the instancer at each motion step (USD extrapolates
         velocities and angular velocities over the shutter), and the instancer's world transforms;
         (None, None) when nothing can move."""
+        velocities = [instancer.GetVelocitiesAttr(), instancer.GetAngularVelocitiesAttr()]
         attributes = [instancer.GetPositionsAttr(), instancer.GetOrientationsAttr(), instancer.GetScalesAttr(),
-                      instancer.GetVelocitiesAttr(), instancer.GetAngularVelocitiesAttr()]
-        times = self.motion_times(instancer.GetPrim(), attributes)
+                      *velocities]
+        times = self.motion_times(instancer.GetPrim(), attributes,
+                                  moves=any(a.HasAuthoredValue() for a in velocities))
         if not times:
             return None, None
         step_local = instancer.ComputeInstanceTransformsAtTimes(

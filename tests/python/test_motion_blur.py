@@ -12,7 +12,7 @@ import pytest
 from conftest import SimpleNamespace  # noqa: F401  (conftest puts this checkout's gi on the path)
 from gi.descriptors import HAVE_CORE
 
-pytestmark = pytest.mark.skipif(not HAVE_CORE, reason="needs gi._core")
+needs_core = pytest.mark.skipif(not HAVE_CORE, reason="needs gi._core")
 
 PIXELS_PER_UNIT = 16
 RESOLUTION = (128, 32)
@@ -25,8 +25,9 @@ SPP = 64
 
 def motion_stage(path, kind, shutter=SHUTTER, travel=TRAVEL, albedo=0.0):
     """Writes the scene (see the module's docstring) with a `kind` of moving object: 'sphere'
-    (translated), 'quad' (translated mesh), 'deforming quad' (its points time-sampled) or
-    'instance' (an instanceable prim holding the quad, translated)."""
+    (translated), 'quad' (translated mesh), 'deforming quad' (its points time-sampled), 'instance'
+    (an instanceable prim holding the quad, translated) or 'point instancer' (one instance of the
+    quad, at x = 0 on FRAME with a velocity: USD extrapolates it over the shutter)."""
     from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade
     stage = Usd.Stage.CreateNew(str(path))
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
@@ -71,17 +72,27 @@ def motion_stage(path, kind, shutter=SHUTTER, travel=TRAVEL, albedo=0.0):
             h = SIZE / 2
             moving.GetPointsAttr().Set([Gf.Vec3f(-h + dx, -5, 0), Gf.Vec3f(h + dx, -5, 0),
                                         Gf.Vec3f(h + dx, 5, 0), Gf.Vec3f(-h + dx, 5, 0)], frame)
+    elif kind == "point instancer":
+        moving = UsdGeom.PointInstancer.Define(stage, "/Object")
+        prototype = quad("/Object/Prototypes/Quad")
+        UsdShade.MaterialBindingAPI.Apply(prototype.GetPrim()).Bind(material)
+        moving.CreatePrototypesRel().SetTargets([prototype.GetPath()])
+        moving.CreateProtoIndicesAttr([0])
+        moving.CreatePositionsAttr().Set([Gf.Vec3f(0, 0, 0)], FRAME)
+        # Velocities are per second: travel / span per frame, timeCodesPerSecond frames a second.
+        moving.CreateVelocitiesAttr().Set(
+            [Gf.Vec3f(travel / span * stage.GetTimeCodesPerSecond(), 0, 0)], FRAME)
     elif kind == "instance":
         source = stage.CreateClassPrim("/QuadSource")
         UsdShade.MaterialBindingAPI.Apply(quad("/QuadSource/Quad").GetPrim()).Bind(material)
         moving = UsdGeom.Xform.Define(stage, "/Object")
         moving.GetPrim().GetReferences().AddInternalReference(source.GetPath())
         moving.GetPrim().SetInstanceable(True)
-    if kind != "deforming quad":
+    if kind not in ("deforming quad", "point instancer"):
         translate = moving.AddTranslateOp()
         for frame, dx in offset.items():
             translate.Set(Gf.Vec3d(dx, 0, 0), frame)
-    if kind != "instance":
+    if kind not in ("instance", "point instancer"):
         UsdShade.MaterialBindingAPI.Apply(moving.GetPrim()).Bind(material)
     stage.Save()
     return path
@@ -130,7 +141,11 @@ def width(variance):
 WIDTH_TOLERANCE = 0.05
 
 
-@pytest.mark.parametrize("kind", ["sphere", "quad", "deforming quad", "instance"])
+KINDS = ["sphere", "quad", "deforming quad", "instance", "point instancer"]
+
+
+@needs_core
+@pytest.mark.parametrize("kind", KINDS)
 def test_an_object_crossing_the_frame_blurs_to_the_analytic_width(tmp_path, kind):
     image, loaded = render(motion_stage(tmp_path / "moving.usda", kind))
     expected = width(analytic_variance(kind))
@@ -140,11 +155,12 @@ def test_an_object_crossing_the_frame_blurs_to_the_analytic_width(tmp_path, kind
     assert moving_path in loaded.moving, loaded.moving
     assert loaded.moving[moving_path] == ["deformation" if kind == "deforming quad" else "transform"]
     stats = loaded.scene.stats()
-    assert stats["moving_instances" if kind == "instance" else "moving_shapes"] == 1
+    assert stats["moving_instances" if "instance" in kind else "moving_shapes"] == 1
     # Unblurred it would be the object's own width: the test tells the two apart.
     assert abs(width(analytic_variance(kind, 0)) - expected) / expected > 10 * WIDTH_TOLERANCE
 
 
+@needs_core
 def test_the_hit_point_and_normal_move_with_the_geometry(tmp_path):
     """A grey convex object under a uniform dome of radiance 1 reflects exactly its albedo (every
     bounce leaves it), so the image darkens by (1 - albedo) times the coverage a black one has with
@@ -163,6 +179,7 @@ def test_the_hit_point_and_normal_move_with_the_geometry(tmp_path):
     assert darkening_per_coverage(TRAVEL) / darkening_per_coverage(0.0) == pytest.approx(1, abs=0.012)
 
 
+@needs_core
 def test_nothing_moving_renders_bit_identically_with_and_without_a_shutter(tmp_path):
     # A grey sphere: paths bounce, so every sampler dimension a path draws is compared.
     shuttered = motion_stage(tmp_path / "shuttered.usda", "sphere", travel=0.0, albedo=0.5)
@@ -174,6 +191,7 @@ def test_nothing_moving_renders_bit_identically_with_and_without_a_shutter(tmp_p
     assert np.array_equal(with_shutter, without)
 
 
+@needs_core
 def test_render_settings_can_disable_motion_blur(tmp_path):
     from pxr import Usd, UsdRender
     path = motion_stage(tmp_path / "moving.usda", "sphere")
@@ -186,6 +204,7 @@ def test_render_settings_can_disable_motion_blur(tmp_path):
     assert width(profile_variance(image)) == pytest.approx(width(analytic_variance("sphere", 0)), rel=WIDTH_TOLERANCE)
 
 
+@needs_core
 def test_a_shutter_closing_before_it_opens_warns_naming_the_camera_and_renders_without_blur(tmp_path):
     image, loaded = render(motion_stage(tmp_path / "backwards.usda", "sphere", shutter=(0.25, -0.25)))
     warnings = [w for w in loaded.scene.warnings() if "shutter" in w]
@@ -195,9 +214,37 @@ def test_a_shutter_closing_before_it_opens_warns_naming_the_camera_and_renders_w
     assert width(profile_variance(image)) == pytest.approx(width(analytic_variance("sphere", 0)), rel=WIDTH_TOLERANCE)
 
 
+@needs_core
 def test_inspect_reports_moving_prims_and_says_nothing_of_motion_when_nothing_moves(tmp_path):
     from conftest import run_gi
     moving = run_gi("inspect", motion_stage(tmp_path / "moving.usda", "deforming quad")).stdout
     assert "motion blur" in moving and "/Object" in moving and "deformation" in moving, moving
     still = run_gi("inspect", motion_stage(tmp_path / "still.usda", "sphere", travel=0.0)).stdout
     assert "motion" not in still.lower(), still
+
+
+def test_step_times_keep_the_authored_samples_inside_the_shutter():
+    from gi.motion import MAX_STEPS, Shutter, step_times
+    shutter = Shutter(0.75, 1.25)
+    assert step_times(shutter, []) == [0.75, 1.25]
+    assert step_times(shutter, [0, 1, 2]) == [0.75, 1.0, 1.25]          # even: the samples themselves
+    uneven = step_times(shutter, [0.8, 1.0])                              # as fine as the closest pair
+    assert len(uneven) == 11 and min(abs(t - 0.8) for t in uneven) < 1e-12
+    assert len(step_times(shutter, [0.75 + 1e-6])) == MAX_STEPS          # capped
+
+
+def test_a_changing_radius_becomes_a_scale_in_each_step(tmp_path, fake_scene):
+    from pxr import Usd, UsdGeom
+    from gi.loader import load_stage
+    path = motion_stage(tmp_path / "growing.usda", "sphere", travel=0.0)
+    stage = Usd.Stage.Open(str(path))
+    radius = UsdGeom.Sphere(stage.GetPrimAtPath("/Object")).GetRadiusAttr()
+    radius.Set(0.5, FRAME - 1)
+    radius.Set(1.5, FRAME + 1)  # 0.875 at shutter open (frame 0.75), 1.125 at close (1.25)
+    stage.GetRootLayer().Save()
+    loaded = load_stage(path, fake_scene, time=FRAME)
+    steps = fake_scene.spheres[0].motion_transforms
+    assert loaded.moving == {"/Object": ["transform"]}
+    radius_at_frame = fake_scene.spheres[0].radius
+    scales = [np.cbrt(abs(np.linalg.det(step[:3, :3]))) * radius_at_frame for step in steps]
+    assert scales == pytest.approx([0.875, 1.125])
