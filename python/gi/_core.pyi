@@ -82,6 +82,7 @@ class CameraDesc:
     shutter_open: float            # frames relative to the rendered time; close > open: motion blur,
     shutter_close: float           # each camera ray at a time in [open, close] (close < open: warned)
     transform: npt.NDArray[np.float64]   # 4x4 camera-to-world, USD convention (camera looks down -Z)
+    motion_transforms: Optional[npt.NDArray[np.float64]]  # (S, 4, 4) over the shutter when it moves, else None
     def __init__(self) -> None: ...
 
 class Scene:

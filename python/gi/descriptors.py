@@ -82,6 +82,7 @@ class _CameraDesc:
     shutter_open: float = 0.0
     shutter_close: float = 0.0
     transform: np.ndarray = field(default_factory=_identity)
+    motion_transforms: object = None   # (steps, 4, 4) over the shutter when the camera moves
 
 
 class CountingScene:

@@ -559,8 +559,11 @@ def as_time_code(time):
 def camera_at(stage, camera_path, time):
     """The CameraDesc of the camera prim `camera_path` at `time` (a frame of a camera move)."""
     prim = stage.GetPrimAtPath(camera_path)
-    return camera_desc(prim, UsdGeom.XformCache(as_time_code(time)).GetLocalToWorldTransform(prim),
-                       as_time_code(time))
+    time = as_time_code(time)
+    desc = camera_desc(prim, UsdGeom.XformCache(time).GetLocalToWorldTransform(prim), time)
+    shutter = motion.camera_shutter(prim, render_settings(stage), time, motion.frame_time(stage, time))
+    desc.motion_transforms = motion.camera_transforms(prim, shutter)
+    return desc
 
 
 def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missing=False) -> LoadedScene:
@@ -603,6 +606,9 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
             loader.warn(str(prim.GetPath()), f"camera could not be read ({error_text(error)}); using one that "
                                              f"frames the whole scene")
     if desc is not None:
+        desc.motion_transforms = motion.camera_transforms(prim, shutter)
+        if desc.motion_transforms is not None:
+            loader.note_motion(prim, "transform")
         scene.set_camera(desc)
         camera_path = str(prim.GetPath())
     else:

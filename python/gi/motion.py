@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
-from pxr import Gf, UsdGeom
+from pxr import Gf, Usd, UsdGeom
 
 MAX_STEPS = 64  # the renderer's kMaxMotionSteps
 
@@ -80,6 +80,16 @@ def attribute_sample_times(attributes, shutter: Shutter) -> list:
     if not varying:
         return None
     return [t for a in varying for t in a.GetTimeSamplesInInterval(shutter.interval())]
+
+
+def camera_transforms(camera, shutter: Optional[Shutter]):
+    """(steps, 4, 4) camera-to-world transforms of a moving camera prim over the shutter, or None."""
+    times = xform_sample_times(camera, shutter) if shutter is not None else None
+    if times is None:
+        return None
+    steps = np.stack([np.array(UsdGeom.XformCache(Usd.TimeCode(t)).GetLocalToWorldTransform(camera), np.float64)
+                      for t in step_times(shutter, times)])
+    return steps if moving(steps) else None
 
 
 def moving(steps) -> bool:

@@ -59,6 +59,23 @@ nb::ndarray<nb::numpy, int32_t> toNumpyInt(std::vector<int32_t> v, size_t h, siz
 #define RW_COLOR(cls, pyname, field) \
     def_prop_rw(pyname, [](const cls& o) { return fromColor(o.field); }, [](cls& o, Float3 v) { o.field = toColor(v); })
 
+using StepPoints = nb::ndarray<const float, nb::shape<-1, -1, 3>, nb::c_contig, nb::device::cpu>;
+using StepMatrices = nb::ndarray<const double, nb::shape<-1, 4, 4>, nb::c_contig, nb::device::cpu>;
+
+// (steps, N, 3) points and (steps, 4, 4) transforms over the shutter (motion.h).
+MotionSteps toMotion(const std::optional<StepPoints>& points, const std::optional<StepMatrices>& transforms) {
+    MotionSteps motion;
+    if (points)
+        for (size_t step = 0; step < points->shape(0); ++step) {
+            const Vec3* first = reinterpret_cast<const Vec3*>(points->data()) + step * points->shape(1);
+            motion.points.emplace_back(first, first + points->shape(1));
+        }
+    if (transforms)
+        for (size_t step = 0; step < transforms->shape(0); ++step)
+            motion.transforms.push_back(Mat4::fromRowMajor(transforms->data() + step * 16));
+    return motion;
+}
+
 void bindDescriptors(nb::module_& m) {
     nb::class_<TextureDesc>(m, "TextureDesc")
         .def(nb::init<>())
@@ -134,6 +151,18 @@ void bindDescriptors(nb::module_& m) {
         .def_rw("focus_distance", &CameraDesc::focusDistance)
         .def_rw("shutter_open", &CameraDesc::shutterOpen)
         .def_rw("shutter_close", &CameraDesc::shutterClose)
+        .def_prop_rw(
+            "motion_transforms",
+            [](const CameraDesc& c) -> nb::object {
+                if (c.motionTransforms.empty()) return nb::none();
+                auto* data = new std::vector<double>;
+                for (const Mat4& m : c.motionTransforms) data->insert(data->end(), &m.m[0][0], &m.m[0][0] + 16);
+                nb::capsule owner(data, [](void* p) noexcept { delete static_cast<std::vector<double>*>(p); });
+                size_t shape[3] = {c.motionTransforms.size(), 4, 4};
+                return nb::cast(nb::ndarray<nb::numpy, double>(data->data(), 3, shape, owner), nb::rv_policy::move);
+            },
+            [](CameraDesc& c, std::optional<StepMatrices> steps) { c.motionTransforms = toMotion(std::nullopt, steps).transforms; },
+            nb::arg("value").none())
         .def_prop_rw("clipping_range", [](const CameraDesc& c) { return Float2{c.clipNear, c.clipFar}; },
                      [](CameraDesc& c, Float2 v) { std::tie(c.clipNear, c.clipFar) = v; })
         .def_prop_rw("transform", [](const CameraDesc& c) { return nb::cast(fromMat4(c.transform), nb::rv_policy::move); },
@@ -150,23 +179,6 @@ std::vector<Vec3> toVec3s(const std::optional<Points>& a) {
     out.resize(a->shape(0));
     std::memcpy(out.data(), a->data(), out.size() * sizeof(Vec3));
     return out;
-}
-
-using StepPoints = nb::ndarray<const float, nb::shape<-1, -1, 3>, nb::c_contig, nb::device::cpu>;
-using StepMatrices = nb::ndarray<const double, nb::shape<-1, 4, 4>, nb::c_contig, nb::device::cpu>;
-
-// (steps, N, 3) points and (steps, 4, 4) transforms over the shutter (motion.h).
-MotionSteps toMotion(const std::optional<StepPoints>& points, const std::optional<StepMatrices>& transforms) {
-    MotionSteps motion;
-    if (points)
-        for (size_t step = 0; step < points->shape(0); ++step) {
-            const Vec3* first = reinterpret_cast<const Vec3*>(points->data()) + step * points->shape(1);
-            motion.points.emplace_back(first, first + points->shape(1));
-        }
-    if (transforms)
-        for (size_t step = 0; step < transforms->shape(0); ++step)
-            motion.transforms.push_back(Mat4::fromRowMajor(transforms->data() + step * 16));
-    return motion;
 }
 
 void requireBuilding(const Scene& s) {

@@ -27,7 +27,8 @@ def motion_stage(path, kind, shutter=SHUTTER, travel=TRAVEL, albedo=0.0):
     """Writes the scene (see the module's docstring) with a `kind` of moving object: 'sphere'
     (translated), 'quad' (translated mesh), 'deforming quad' (its points time-sampled), 'instance'
     (an instanceable prim holding the quad, translated) or 'point instancer' (one instance of the
-    quad, at x = 0 on FRAME with a velocity: USD extrapolates it over the shutter)."""
+    quad, at x = 0 on FRAME with a velocity: USD extrapolates it over the shutter); 'camera': the
+    sphere stands still and the camera moves the other way."""
     from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade
     stage = Usd.Stage.CreateNew(str(path))
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
@@ -38,7 +39,8 @@ def motion_stage(path, kind, shutter=SHUTTER, travel=TRAVEL, albedo=0.0):
     camera.CreateHorizontalApertureAttr(10.0 * RESOLUTION[0] / PIXELS_PER_UNIT)  # tenths of a unit
     camera.CreateVerticalApertureAttr(10.0 * RESOLUTION[1] / PIXELS_PER_UNIT)
     camera.CreateClippingRangeAttr(Gf.Vec2f(0.1, 100))
-    camera.AddTranslateOp().Set(Gf.Vec3d(0, 0, 10))
+    camera_translate = camera.AddTranslateOp()
+    camera_translate.Set(Gf.Vec3d(0, 0, 10))
     camera.CreateShutterOpenAttr(shutter[0])
     camera.CreateShutterCloseAttr(shutter[1])
     UsdLux.DomeLight.Define(stage, "/Dome")
@@ -61,9 +63,12 @@ def motion_stage(path, kind, shutter=SHUTTER, travel=TRAVEL, albedo=0.0):
                                Gf.Vec3f(-h + dx, 5, 0)])
         return mesh
 
-    if kind == "sphere":
+    if kind in ("sphere", "camera"):
         moving = UsdGeom.Sphere.Define(stage, "/Object")
         moving.CreateRadiusAttr(SIZE / 2)
+        if kind == "camera":
+            for frame, dx in offset.items():
+                camera_translate.Set(Gf.Vec3d(-dx, 0, 10), frame)
     elif kind == "quad":
         moving = quad("/Object")
     elif kind == "deforming quad":
@@ -88,7 +93,7 @@ def motion_stage(path, kind, shutter=SHUTTER, travel=TRAVEL, albedo=0.0):
         moving = UsdGeom.Xform.Define(stage, "/Object")
         moving.GetPrim().GetReferences().AddInternalReference(source.GetPath())
         moving.GetPrim().SetInstanceable(True)
-    if kind not in ("deforming quad", "point instancer"):
+    if kind not in ("deforming quad", "point instancer", "camera"):
         translate = moving.AddTranslateOp()
         for frame, dx in offset.items():
             translate.Set(Gf.Vec3d(dx, 0, 0), frame)
@@ -125,7 +130,7 @@ SIZE_PX = SIZE * PIXELS_PER_UNIT
 
 
 def analytic_variance(kind, travel_px=TRAVEL_PX):
-    shape = (SIZE_PX / 2) ** 2 / 4 if kind == "sphere" else SIZE_PX ** 2 / 12
+    shape = (SIZE_PX / 2) ** 2 / 4 if kind in ("sphere", "camera") else SIZE_PX ** 2 / 12
     return shape + travel_px ** 2 / 12 + PIXEL ** 2 / 12
 
 
@@ -141,7 +146,7 @@ def width(variance):
 WIDTH_TOLERANCE = 0.05
 
 
-KINDS = ["sphere", "quad", "deforming quad", "instance", "point instancer"]
+KINDS = ["sphere", "quad", "deforming quad", "instance", "point instancer", "camera"]
 
 
 @needs_core
@@ -151,11 +156,13 @@ def test_an_object_crossing_the_frame_blurs_to_the_analytic_width(tmp_path, kind
     expected = width(analytic_variance(kind))
     measured = width(profile_variance(image))
     assert abs(measured - expected) / expected < WIDTH_TOLERANCE, (kind, measured, expected)
-    moving_path = "/Object"
-    assert moving_path in loaded.moving, loaded.moving
+    moving_path = "/Camera" if kind == "camera" else "/Object"
+    assert list(loaded.moving) == [moving_path], loaded.moving
     assert loaded.moving[moving_path] == ["deformation" if kind == "deforming quad" else "transform"]
     stats = loaded.scene.stats()
-    assert stats["moving_instances" if "instance" in kind else "moving_shapes"] == 1
+    moving_geometry = {"camera": 0, "instance": 1, "point instancer": 1}.get(kind, 0), \
+        {"camera": 0, "instance": 0, "point instancer": 0}.get(kind, 1)
+    assert (stats["moving_instances"], stats["moving_shapes"]) == moving_geometry
     # Unblurred it would be the object's own width: the test tells the two apart.
     assert abs(width(analytic_variance(kind, 0)) - expected) / expected > 10 * WIDTH_TOLERANCE
 
