@@ -9,7 +9,6 @@ the column means of 1 - image are the object's coverage profile along x, blurred
 import numpy as np
 import pytest
 
-from conftest import SimpleNamespace  # noqa: F401  (conftest puts this checkout's gi on the path)
 from gi.descriptors import HAVE_CORE
 
 needs_core = pytest.mark.skipif(not HAVE_CORE, reason="needs gi._core")
