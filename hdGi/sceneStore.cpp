@@ -77,6 +77,8 @@ private:
 
 // The prim's motion over the shutter as the renderer's even steps (renderer/motion.h): its
 // transform's (top-level prims only: instances move by their instancer) and `mesh`'s deformation.
+// Hydra's samples include the shutter's boundaries, so the first step is at shutter open and the
+// last at close, as the renderer's ray times 0 and 1.
 gi::MotionSteps MotionOf(HdGiGeometry const& g, HdGiTriangleMesh const* mesh, int prototype) {
     bool moves = prototype < 0 && g.transformTimes.size() > 1;
     bool deforms = mesh && mesh->pointTimes.size() > 1;

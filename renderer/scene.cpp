@@ -129,8 +129,7 @@ int Scene::addMesh(const std::string& name, std::vector<Vec3> positions, std::ve
             ++badNormals;
         }
     std::vector<Mat4> stepTransforms;
-    std::vector<std::vector<Vec3>> stepPositions = meshMotion(name, positions, transform, prototype, motion);
-    if (!stepPositions.empty() && prototype < 0) stepTransforms = transformMotion("mesh " + name, motion);
+    std::vector<std::vector<Vec3>> stepPositions = meshMotion(name, positions, transform, prototype, motion, stepTransforms);
     std::vector<std::vector<Vec3>> stepNormals;
     if (!normals.empty() && !stepTransforms.empty())
         for (const Mat4& m : stepTransforms) {
@@ -241,7 +240,9 @@ std::vector<Mat4> Scene::transformMotion(const std::string& what, const MotionSt
 }
 
 std::vector<std::vector<Vec3>> Scene::meshMotion(const std::string& name, const std::vector<Vec3>& positions,
-                                                 const Mat4* transform, int prototype, const MotionSteps& motion) {
+                                                 const Mat4* transform, int prototype, const MotionSteps& motion,
+                                                 std::vector<Mat4>& transforms) {
+    transforms.clear();
     const size_t steps = motion.count();
     if (steps < 2) return {};
     auto without = [&](const std::string& why) {
@@ -257,7 +258,6 @@ std::vector<std::vector<Vec3>> Scene::meshMotion(const std::string& name, const 
         if (motion.points[i].size() != positions.size())
             return without("motion step " + std::to_string(i) + " has " + std::to_string(motion.points[i].size()) +
                            " points for " + std::to_string(positions.size()));
-    std::vector<Mat4> transforms;
     if (!motion.transforms.empty() && prototype >= 0)
         warn("mesh " + name + ": transform motion inside a prototype is ignored (its instances' motion applies)");
     else if (!motion.transforms.empty()) {
@@ -274,7 +274,10 @@ std::vector<std::vector<Vec3>> Scene::meshMotion(const std::string& name, const 
     auto sameAsFirst = [&](const std::vector<Vec3>& step) {
         return std::memcmp(step.data(), out[0].data(), step.size() * sizeof(Vec3)) == 0;
     };
-    if (std::all_of(out.begin(), out.end(), sameAsFirst)) return {};  // nothing moves: static geometry
+    if (std::all_of(out.begin(), out.end(), sameAsFirst)) {  // nothing moves: static geometry
+        transforms.clear();
+        return {};
+    }
     return out;
 }
 

@@ -161,9 +161,11 @@ private:
     };
 
     void buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, int shapeId);
-    // The validated steps of a mesh's motion, or empty (warned about when unusable).
+    // The validated steps of a mesh's motion, or empty (warned about when unusable); `transforms`:
+    // the per-step transforms baked into them (empty when the static one was).
     std::vector<std::vector<Vec3>> meshMotion(const std::string& name, const std::vector<Vec3>& positions,
-                                              const Mat4* transform, int prototype, const MotionSteps& motion);
+                                              const Mat4* transform, int prototype, const MotionSteps& motion,
+                                              std::vector<Mat4>& transforms);
     // motion.transforms validated (finite, invertible, as many as motion's steps), or empty.
     std::vector<Mat4> transformMotion(const std::string& what, const MotionSteps& motion);
     void buildLights();

@@ -123,3 +123,19 @@ TEST(Motion, UnevenHostSamplesBecomeEvenStepsThatKeepThem) {
     EXPECT_FLOAT_EQ(sampleAt<float>({0.0f, 0.1f, 1.0f}, {0.0f, 1.0f, 10.0f}, 0.55f, lerpFloat), 5.5f);
     EXPECT_FLOAT_EQ(sampleAt<float>({0.0f, 1.0f}, {3.0f, 5.0f}, 2.0f, lerpFloat), 5.0f);
 }
+
+TEST(Motion, ADeformingMeshWithAnUnusableTransformKeepsItsDeformationAndIsWarnedAboutOnce) {
+    Scene s;
+    std::vector<Vec3> triangle = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    std::vector<Vec3> shifted = {{1, 0, 0}, {2, 0, 0}, {1, 1, 0}};
+    MotionSteps motion;
+    motion.points = {triangle, shifted};
+    Mat4 flat;
+    flat.m[2][2] = 0;
+    motion.transforms = {Mat4(), flat};
+    EXPECT_GE(s.addMesh("/Deforming", triangle, {0, 1, 2}, {}, {}, -1, nullptr, true, -1, motion), 0);
+    s.commit();
+    std::vector<std::string> w = s.warnings();
+    EXPECT_EQ(std::count_if(w.begin(), w.end(), [](const std::string& m) { return m.find("/Deforming") != std::string::npos; }), 1);
+    EXPECT_EQ(s.stats().movingShapes, 1u);
+}
