@@ -488,13 +488,19 @@ void Scene::commit() {
     stats_.instances = instances_.size();
     stats_.prototypes = prototypes_.size();
 
-    // Bounds over the whole shutter: the union of the linear bounds at open and at close.
-    RTCLinearBounds b;
-    rtcGetSceneLinearBounds(top_, &b);
-    Vec3 lo = vmin(Vec3(b.bounds0.lower_x, b.bounds0.lower_y, b.bounds0.lower_z),
-                   Vec3(b.bounds1.lower_x, b.bounds1.lower_y, b.bounds1.lower_z));
-    Vec3 hi = vmax(Vec3(b.bounds0.upper_x, b.bounds0.upper_y, b.bounds0.upper_z),
-                   Vec3(b.bounds1.upper_x, b.bounds1.upper_y, b.bounds1.upper_z));
+    // With motion, bounds over the whole shutter: the union of the linear bounds at open and at
+    // close. Without, the scene's bounds (so that a scene where nothing moves is unchanged).
+    RTCBounds b;
+    rtcGetSceneBounds(top_, &b);
+    Vec3 lo(b.lower_x, b.lower_y, b.lower_z), hi(b.upper_x, b.upper_y, b.upper_z);
+    if (hasMotion()) {
+        RTCLinearBounds linear;
+        rtcGetSceneLinearBounds(top_, &linear);
+        lo = vmin(Vec3(linear.bounds0.lower_x, linear.bounds0.lower_y, linear.bounds0.lower_z),
+                  Vec3(linear.bounds1.lower_x, linear.bounds1.lower_y, linear.bounds1.lower_z));
+        hi = vmax(Vec3(linear.bounds0.upper_x, linear.bounds0.upper_y, linear.bounds0.upper_z),
+                  Vec3(linear.bounds1.upper_x, linear.bounds1.upper_y, linear.bounds1.upper_z));
+    }
     if (isFinite(lo) && isFinite(hi) && hi.x >= lo.x) {
         boundsMin_ = lo;
         boundsMax_ = hi;
