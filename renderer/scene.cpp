@@ -756,7 +756,7 @@ Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) c
     // A NaN ray (from a broken camera or a numerical accident upstream) hits nothing: Embree's
     // behaviour on it is undefined (its debug builds assert).
     if (!embreeValid(ray.o) || !embreeValid(ray.d) || std::isnan(ray.tMin) || std::isnan(ray.tMax)) return Intersection();
-    if (stats.record) stats.record->push_back({ray.o, ray.d, ray.tMin, ray.tMax, false});
+    if (stats.record) stats.record->push_back({ray.o, ray.d, ray.tMin, ray.tMax, false, ray.time});
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
@@ -776,7 +776,7 @@ Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) c
 bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats, float time) const {
     ++stats.rays;
     if (!embreeValid(origin) || !embreeValid(dir) || std::isnan(distance)) return true;  // no light along a NaN ray
-    if (stats.record) stats.record->push_back({origin, dir, 0, distance, true});
+    if (stats.record) stats.record->push_back({origin, dir, 0, distance, true, time});
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;

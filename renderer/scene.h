@@ -27,6 +27,7 @@ struct RecordedRay {
     Vec3 o, d;
     float tMin, tMax;
     bool occlusion;  // rtcOccluded1 (shadow ray) rather than rtcIntersect1
+    float time = 0;  // within the shutter (Ray::time)
 };
 
 struct RayStats {
