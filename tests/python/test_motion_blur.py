@@ -141,7 +141,7 @@ def width(variance):
 # Tolerance: the 5% on the width. Its noise part is far below it: over seeds 0-7 at 64 spp
 # the measured width is within 0.19% of the analytic one for every kind (std 0.07% at most, so
 # 4 sigma is 0.28%); unblurred, the model is good to 0.8% (the pixel term is approximate). Mistakes
-# in the time (not sampled, half the shutter, one step) move the width by 20-60%.
+# in the time (not sampled, half the shutter, one step) move the width by 37-60% (analytic).
 WIDTH_TOLERANCE = 0.05
 
 
