@@ -94,7 +94,7 @@ def open_stage(path, allow_missing=False):
     return stage
 
 
-class StageLoader:
+class StageLoader(motion.MotionSampling):
     """One pass over a stage, adding what it finds to `scene`."""
 
     def __init__(self, stage, scene, time, file, shutter=None):
@@ -102,7 +102,7 @@ class StageLoader:
         self.shutter = shutter  # motion.Shutter: moving prims are sampled over it
         self.xforms = UsdGeom.XformCache(time)
         self.step_xforms = {}   # time -> XformCache, for the motion steps
-        self.moving = {}        # prim path -> sorted kinds of motion
+        self.moving = {}        # prim path -> kinds of motion (motion.MotionSampling.note_motion)
         self.warnings = []
         self.materials = MaterialLibrary(scene, time, self.warn)
         self.prototypes = {}    # prototype root path -> prototype id
@@ -114,35 +114,6 @@ class StageLoader:
 
     def world(self, prim):
         return self.xforms.GetLocalToWorldTransform(prim)
-
-    # -- motion blur -----------------------------------------------------------------------------
-    def motion_times(self, prim, attributes=(), xform=True, moves=False):
-        """The step times of `prim`'s motion over the shutter (its transform's if `xform`, and
-        `attributes`'), or None when nothing of it can move (unless `moves`: velocities move it)."""
-        if self.shutter is None:
-            return None
-        xform_times = motion.xform_sample_times(prim, self.shutter) if xform else None
-        attribute_times = motion.attribute_sample_times(attributes, self.shutter)
-        if xform_times is None and attribute_times is None and not moves:
-            return None
-        return motion.step_times(self.shutter, (xform_times or []) + (attribute_times or []))
-
-    def world_at(self, prim, time):
-        if time not in self.step_xforms:
-            self.step_xforms[time] = UsdGeom.XformCache(Usd.TimeCode(time))
-        return self.step_xforms[time].GetLocalToWorldTransform(prim)
-
-    def transform_steps(self, prim, times):
-        """(steps, 4, 4) world transforms of `prim` at `times`, or None if they do not change."""
-        if not times:
-            return None
-        steps = np.stack([matrix(self.world_at(prim, t)) for t in times])
-        return steps if motion.moving(steps) else None
-
-    def note_motion(self, prim, kind):
-        kinds = self.moving.setdefault(str(prim.GetPath()), [])
-        if kind not in kinds:
-            kinds.append(kind)
 
     def is_rendered(self, prim):
         """Visible (inherited visibility) and of the default or render purpose."""
@@ -249,28 +220,6 @@ class StageLoader:
                 self.note_motion(prim, "transform")
             if point_steps is not None:
                 self.note_motion(prim, "deformation")
-
-    def mesh_motion(self, prim, triangles, prototype):
-        """The mesh's authored points (steps, points, 3) and world transforms (steps, 4, 4) over the
-        shutter, each None when it does not change. A prototype's meshes move with their instances
-        (their transform relative to the prototype is taken as fixed), but may deform."""
-        points = UsdGeom.Mesh(prim).GetPointsAttr() if prim.IsA(UsdGeom.Mesh) else None
-        deforms = points is not None and triangles.point_of_vertex is not None
-        times = self.motion_times(prim, [points] if deforms else [], xform=prototype < 0)
-        if not times:
-            return None, None
-        point_steps = None
-        if deforms and points.ValueMightBeTimeVarying():
-            steps = [np.asarray(points.Get(t) or [], np.float64).reshape(-1, 3) for t in times]
-            needed = int(triangles.point_of_vertex.max()) + 1
-            if any(len(step) != len(steps[0]) or len(step) < needed for step in steps):
-                self.warn(str(prim.GetPath()), f"the number of points changes during the shutter "
-                                               f"({sorted({len(step) for step in steps})}); rendered without "
-                                               f"deformation blur")
-            elif motion.moving(steps):
-                point_steps = np.stack(steps)
-        transform_steps = self.transform_steps(prim, times) if prototype < 0 else None
-        return point_steps, transform_steps
 
     @staticmethod
     def pieces(name, material, triangles, subsets):
@@ -436,26 +385,6 @@ class StageLoader:
                 steps = np.stack([matrix(root_local * step[i] * world) for step, world in zip(step_local, step_worlds)])
                 steps = steps if motion.moving(steps) else None
             self.add_instance(prototype, root_local * transform * instancer_world, f"{path}[{i}]", steps, prim)
-
-    def instancer_motion(self, instancer, count):
-        """Each instance's transform relative to the instancer at each motion step (USD extrapolates
-        velocities and angular velocities over the shutter), and the instancer's world transforms;
-        (None, None) when nothing can move."""
-        velocities = [instancer.GetVelocitiesAttr(), instancer.GetAngularVelocitiesAttr()]
-        attributes = [instancer.GetPositionsAttr(), instancer.GetOrientationsAttr(), instancer.GetScalesAttr(),
-                      *velocities]
-        times = self.motion_times(instancer.GetPrim(), attributes,
-                                  moves=any(a.HasAuthoredValue() for a in velocities))
-        if not times:
-            return None, None
-        step_local = instancer.ComputeInstanceTransformsAtTimes(
-            [Usd.TimeCode(t) for t in times], self.time, UsdGeom.PointInstancer.ExcludeProtoXform,
-            UsdGeom.PointInstancer.IgnoreMask)
-        if len(step_local) != len(times) or any(len(step) != count for step in step_local):
-            self.warn(str(instancer.GetPath()), "instance transforms could not be computed over the shutter; "
-                                                "rendered without motion blur")
-            return None, None
-        return step_local, [self.world_at(instancer.GetPrim(), t) for t in times]
 
     # -- lights ----------------------------------------------------------------------------------
     def add_light(self, prim, world):

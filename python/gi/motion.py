@@ -95,3 +95,80 @@ def camera_transforms(camera, shutter: Optional[Shutter]):
 def moving(steps) -> bool:
     """Whether the per-step arrays differ (the renderer builds motion geometry only then)."""
     return any(not np.array_equal(steps[0], step) for step in steps[1:])
+
+
+class MotionSampling:
+    """What the USD loader (loader.StageLoader) does for motion blur: the step times of a prim's
+    motion over `self.shutter` (None: no blur), its transforms, points and instance transforms at
+    them, and `self.moving` (prim path -> what moves) for `gi inspect`. Uses the loader's
+    `self.step_xforms` (time -> XformCache), `self.time` and `self.warn`."""
+
+    def motion_times(self, prim, attributes=(), xform=True, moves=False):
+        """The step times of `prim`'s motion over the shutter (its transform's if `xform`, and
+        `attributes`'), or None when nothing of it can move (unless `moves`: velocities move it)."""
+        if self.shutter is None:
+            return None
+        xform_times = xform_sample_times(prim, self.shutter) if xform else None
+        attribute_times = attribute_sample_times(attributes, self.shutter)
+        if xform_times is None and attribute_times is None and not moves:
+            return None
+        return step_times(self.shutter, (xform_times or []) + (attribute_times or []))
+
+    def world_at(self, prim, time):
+        if time not in self.step_xforms:
+            self.step_xforms[time] = UsdGeom.XformCache(Usd.TimeCode(time))
+        return self.step_xforms[time].GetLocalToWorldTransform(prim)
+
+    def transform_steps(self, prim, times):
+        """(steps, 4, 4) world transforms of `prim` at `times`, or None if they do not change."""
+        if not times:
+            return None
+        steps = np.stack([np.array(self.world_at(prim, t), np.float64) for t in times])
+        return steps if moving(steps) else None
+
+    def note_motion(self, prim, kind):
+        kinds = self.moving.setdefault(str(prim.GetPath()), [])
+        if kind not in kinds:
+            kinds.append(kind)
+
+    def mesh_motion(self, prim, triangles, prototype):
+        """The mesh's authored points (steps, points, 3) and world transforms (steps, 4, 4) over the
+        shutter, each None when it does not change. A prototype's meshes move with their instances
+        (their transform relative to the prototype is taken as fixed), but may deform."""
+        points = UsdGeom.Mesh(prim).GetPointsAttr() if prim.IsA(UsdGeom.Mesh) else None
+        deforms = points is not None and triangles.point_of_vertex is not None
+        times = self.motion_times(prim, [points] if deforms else [], xform=prototype < 0)
+        if not times:
+            return None, None
+        point_steps = None
+        if deforms and points.ValueMightBeTimeVarying():
+            steps = [np.asarray(points.Get(t) or [], np.float64).reshape(-1, 3) for t in times]
+            needed = int(triangles.point_of_vertex.max()) + 1
+            if any(len(step) != len(steps[0]) or len(step) < needed for step in steps):
+                self.warn(str(prim.GetPath()), f"the number of points changes during the shutter "
+                                               f"({sorted({len(step) for step in steps})}); rendered without "
+                                               f"deformation blur")
+            elif moving(steps):
+                point_steps = np.stack(steps)
+        transform_steps = self.transform_steps(prim, times) if prototype < 0 else None
+        return point_steps, transform_steps
+
+    def instancer_motion(self, instancer, count):
+        """Each instance's transform relative to the instancer at each motion step (USD extrapolates
+        velocities and angular velocities over the shutter), and the instancer's world transforms;
+        (None, None) when nothing can move."""
+        velocities = [instancer.GetVelocitiesAttr(), instancer.GetAngularVelocitiesAttr()]
+        attributes = [instancer.GetPositionsAttr(), instancer.GetOrientationsAttr(), instancer.GetScalesAttr(),
+                      *velocities]
+        times = self.motion_times(instancer.GetPrim(), attributes,
+                                  moves=any(a.HasAuthoredValue() for a in velocities))
+        if not times:
+            return None, None
+        step_local = instancer.ComputeInstanceTransformsAtTimes(
+            [Usd.TimeCode(t) for t in times], self.time, UsdGeom.PointInstancer.ExcludeProtoXform,
+            UsdGeom.PointInstancer.IgnoreMask)
+        if len(step_local) != len(times) or any(len(step) != count for step in step_local):
+            self.warn(str(instancer.GetPath()), "instance transforms could not be computed over the shutter; "
+                                                "rendered without motion blur")
+            return None, None
+        return step_local, [self.world_at(instancer.GetPrim(), t) for t in times]
