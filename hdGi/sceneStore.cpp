@@ -130,6 +130,14 @@ void Record(std::vector<int>& map, int index, int value) {
 
 }  // namespace
 
+void HdGiSceneStore::ReportWarnings(gi::Scene const& scene) const {
+    // Every edit rebuilds the scene: report each of its warnings once per session.
+    for (std::string const& w : scene.warnings()) {
+        std::lock_guard<std::mutex> lock(_mutex);
+        if (_reported.insert(w).second) TF_WARN("hdGi: %s", w.c_str());
+    }
+}
+
 std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightCameraVisibility) const {
     // Snapshot under the lock (records are immutable once stored), build outside it.
     std::vector<std::shared_ptr<const HdGiGeometry>> geometry;
@@ -169,11 +177,7 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         scene->addLight(light);
     }
     scene->commit();
-    // Every edit rebuilds the scene: report each of its warnings once per session.
-    for (std::string const& w : scene->warnings()) {
-        std::lock_guard<std::mutex> lock(_mutex);
-        if (_reported.insert(w).second) TF_WARN("hdGi: %s", w.c_str());
-    }
+    ReportWarnings(*scene);
     if (ids) *ids = std::move(map);
     return scene;
 }

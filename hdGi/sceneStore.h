@@ -70,6 +70,10 @@ public:
 
     size_t GeometryCount() const;
 
+    // Sends the scene's warnings to TF_WARN, each once per session: those of building it (Build
+    // does) and those of rendering it (a camera's shutter closing before it opens, ...).
+    void ReportWarnings(gi::Scene const& scene) const;
+
 private:
     mutable std::mutex _mutex;
     mutable std::set<std::string> _reported;
