@@ -80,7 +80,8 @@ inline std::vector<float> evenStepTimes(std::vector<float> times) {
     float closest = times.back() - times.front();
     for (size_t i = 1; i < times.size(); ++i) closest = std::min(closest, times[i] - times[i - 1]);
     float span = times.back() - times.front();
-    size_t segments = std::clamp<size_t>(size_t(std::ceil(span / closest - 1e-4f)), 1, kMaxMotionSteps - 1);
+    // Clamped as a float: a ratio beyond size_t's range must not be converted.
+    size_t segments = size_t(std::clamp(std::ceil(span / closest - 1e-4f), 1.0f, float(kMaxMotionSteps - 1)));
     std::vector<float> grid(segments + 1);
     for (size_t i = 0; i <= segments; ++i) grid[i] = times.front() + span * float(i) / float(segments);
     grid.back() = times.back();

@@ -119,6 +119,7 @@ TEST(Motion, UnevenHostSamplesBecomeEvenStepsThatKeepThem) {
     ASSERT_EQ(uneven.size(), 11u);  // as fine as the closest pair
     EXPECT_FLOAT_EQ(uneven[1], 0.1f);
     EXPECT_TRUE(evenStepTimes({0.5f}).empty());
+    EXPECT_EQ(evenStepTimes({0.0f, 1e-38f, 1e30f}).size(), kMaxMotionSteps);  // capped, and no overflow
     auto lerpFloat = [](float a, float b, float f) { return a + (b - a) * f; };
     EXPECT_FLOAT_EQ(sampleAt<float>({0.0f, 0.1f, 1.0f}, {0.0f, 1.0f, 10.0f}, 0.55f, lerpFloat), 5.5f);
     EXPECT_FLOAT_EQ(sampleAt<float>({0.0f, 1.0f}, {3.0f, 5.0f}, 2.0f, lerpFloat), 5.0f);
