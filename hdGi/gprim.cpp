@@ -3,6 +3,7 @@
 #include "instancer.h"
 #include "pxr/base/vt/array.h"
 #include "pxr/imaging/hd/changeTracker.h"
+#include "pxr/imaging/hd/timeSampleArray.h"
 #include "pxr/imaging/hd/tokens.h"
 #include "renderParam.h"
 
@@ -39,6 +40,11 @@ bool HdGiGprimState::Sync(HdRprim& prim, HdSceneDelegate* delegate, HdDirtyBits 
     }
     if (HdChangeTracker::IsTransformDirty(dirtyBits, id)) {
         transform = delegate->GetTransform(id);
+        // The transform over the camera's shutter: its boundaries and the authored samples between.
+        HdTimeSampleArray<GfMatrix4d, 4> samples;
+        delegate->SampleTransform(id, &samples);
+        transformTimes.assign(samples.times.begin(), samples.times.begin() + samples.count);
+        transformSamples.assign(samples.values.begin(), samples.values.begin() + samples.count);
         changed = true;
     }
     if (HdChangeTracker::IsDoubleSidedDirty(dirtyBits, id)) {
@@ -73,6 +79,8 @@ void HdGiGprimState::Publish(HdRprim const& prim, HdGiRenderParam* param, std::s
     HdGiGeometry& g = *geometry;
     g.name = prim.GetId().GetString();
     g.transform = transform;
+    g.transformTimes = transformTimes;
+    g.transformSamples = transformSamples;
     g.doubleSided = doubleSided;
     g.hasDisplayColor = hasDisplayColor;
     g.displayColor = displayColor;

@@ -16,6 +16,8 @@ class HdGiRenderParam;
 
 struct HdGiGprimState {
     GfMatrix4d transform{1.0};
+    std::vector<float> transformTimes;  // motion samples over the shutter (HdGiGeometry's)
+    std::vector<GfMatrix4d> transformSamples;
     bool doubleSided = true;
     bool hasDisplayColor = false;
     GfVec3f displayColor{0.18f};

@@ -4,6 +4,7 @@
 
 #include "meshGeometry.h"
 #include "pxr/imaging/hd/meshUtil.h"
+#include "pxr/imaging/hd/timeSampleArray.h"
 #include "pxr/imaging/hd/tokens.h"
 #include "renderParam.h"
 
@@ -34,6 +35,34 @@ HdGiPrimvar FindPrimvar(HdRprim const& prim, HdSceneDelegate* delegate, TfToken 
     return HdGiPrimvar();
 }
 
+// The mesh's points over the camera's shutter (SamplePrimvar: the shutter's boundaries and the
+// authored samples between), each sample triangulated as the mesh is, so that its vertices match
+// the pieces'. A sample whose triangulation differs (the point count changed) drops the motion.
+void AddDeformation(HdSceneDelegate* delegate, SdfPath const& id, HdGiMeshInput const& input, HdGiRenderParam* param,
+                    HdGiMeshPieces* pieces) {
+    HdTimeSampleArray<VtValue, 4> samples;
+    delegate->SamplePrimvar(id, HdTokens->points, &samples);
+    if (samples.count < 2) return;
+    std::vector<HdGiMeshPieces> steps;
+    for (size_t i = 0; i < samples.count; ++i) {
+        HdGiMeshInput step = input;
+        step.points = samples.values[i];
+        steps.push_back(HdGiTriangulate(id, step));
+        bool matches = steps.back().pieces.size() == pieces->pieces.size();
+        for (size_t p = 0; matches && p < pieces->pieces.size(); ++p)
+            matches = steps.back().pieces[p].points.size() == pieces->pieces[p].points.size();
+        if (!matches) {
+            param->Warn(id, "its points change in number during the shutter; rendered without deformation blur");
+            return;
+        }
+    }
+    for (size_t p = 0; p < pieces->pieces.size(); ++p) {
+        HdGiTriangleMesh& piece = pieces->pieces[p];
+        piece.pointTimes.assign(samples.times.begin(), samples.times.begin() + samples.count);
+        for (HdGiMeshPieces& step : steps) piece.pointSamples.push_back(std::move(step.pieces[p].points));
+    }
+}
+
 }  // namespace
 
 void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDirtyBits* dirtyBits,
@@ -62,6 +91,7 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
                                 : delegate->GetDisplayStyle(id).refineLevel;
         HdGiMeshPieces pieces = HdGiTriangulate(id, input);
         for (std::string const& w : pieces.warnings) param->Warn(id, w);
+        AddDeformation(delegate, id, input, param, &pieces);
         _pieces.clear();
         for (HdGiTriangleMesh& m : pieces.pieces) _pieces.push_back(std::make_shared<const HdGiTriangleMesh>(std::move(m)));
         _pieceMaterials = pieces.materials;

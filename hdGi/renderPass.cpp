@@ -40,6 +40,9 @@ gi::CameraDesc CameraOf(HdCamera const* camera, GfMatrix4d const& view, GfMatrix
         desc.focusDistance = camera->GetFocusDistance();
         desc.clipNear = camera->GetClippingRange().GetMin();
         desc.clipFar = camera->GetClippingRange().GetMax();
+        // Relative to the frame, as SampleTransform's and SamplePrimvar's times (motion blur).
+        desc.shutterOpen = float(camera->GetShutterOpen());
+        desc.shutterClose = float(camera->GetShutterClose());
     }
     return desc;
 }

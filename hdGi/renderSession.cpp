@@ -69,6 +69,7 @@ void HdGiRenderSession::Run() {
         TF_RUNTIME_ERROR("hdGi: cannot render: %s", e.what());
         return;
     }
+    _param->Store().ReportWarnings(*_scene);  // the camera's (a shutter closing before it opens)
     {
         std::lock_guard<std::mutex> lock(_statsMutex);
         _active = renderer.get();

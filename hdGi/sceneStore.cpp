@@ -75,13 +75,40 @@ private:
     std::map<std::string, int> _ids;
 };
 
+// The prim's motion over the shutter as the renderer's even steps (renderer/motion.h): its
+// transform's (top-level prims only: instances move by their instancer) and `mesh`'s deformation.
+// Hydra's samples include the shutter's boundaries, so the first step is at shutter open and the
+// last at close, as the renderer's ray times 0 and 1.
+gi::MotionSteps MotionOf(HdGiGeometry const& g, HdGiTriangleMesh const* mesh, int prototype) {
+    bool moves = prototype < 0 && g.transformTimes.size() > 1;
+    bool deforms = mesh && mesh->pointTimes.size() > 1;
+    std::vector<float> times;
+    if (moves) times = g.transformTimes;
+    if (deforms) times.insert(times.end(), mesh->pointTimes.begin(), mesh->pointTimes.end());
+    gi::MotionSteps motion;
+    for (float t : gi::evenStepTimes(times)) {
+        if (moves)
+            motion.transforms.push_back(HdGiToMat4(gi::sampleAt(
+                g.transformTimes, g.transformSamples, t,
+                [](GfMatrix4d const& a, GfMatrix4d const& b, float f) { return a * double(1 - f) + b * double(f); })));
+        if (deforms)
+            motion.points.push_back(gi::sampleAt(mesh->pointTimes, mesh->pointSamples, t,
+                                                 [](std::vector<gi::Vec3> const& a, std::vector<gi::Vec3> const& b, float f) {
+                                                     std::vector<gi::Vec3> out(a.size());
+                                                     for (size_t i = 0; i < a.size(); ++i) out[i] = gi::lerp(a[i], b[i], f);
+                                                     return out;
+                                                 }));
+    }
+    return motion;
+}
+
 // Adds the prim's shapes (a sphere, or one mesh per material piece); returns their ids.
 std::vector<int> AddShapes(gi::Scene& scene, HdGiGeometry const& g, MaterialBinder& binder, gi::Mat4 const& transform,
                            int prototype) {
     std::vector<int> shapes;
     if (g.isSphere) {
         shapes.push_back(scene.addSphere(g.name, gi::Vec3(0.0f), g.radius, binder.Bind(g, SdfPath()), &transform,
-                                         prototype));
+                                         prototype, MotionOf(g, nullptr, prototype)));
         return shapes;
     }
     for (size_t i = 0; i < g.pieces.size(); ++i) {
@@ -90,7 +117,7 @@ std::vector<int> AddShapes(gi::Scene& scene, HdGiGeometry const& g, MaterialBind
         SdfPath material = i < g.pieceMaterials.size() ? g.pieceMaterials[i] : SdfPath();
         std::string name = g.pieces.size() > 1 && !material.IsEmpty() ? g.name + " (" + material.GetString() + ")" : g.name;
         shapes.push_back(scene.addMesh(name, m.points, m.indices, m.normals, m.uvs, binder.Bind(g, material), &transform,
-                                       g.doubleSided, prototype));
+                                       g.doubleSided, prototype, MotionOf(g, &m, prototype)));
     }
     return shapes;
 }
@@ -102,6 +129,14 @@ void Record(std::vector<int>& map, int index, int value) {
 }
 
 }  // namespace
+
+void HdGiSceneStore::ReportWarnings(gi::Scene const& scene) const {
+    // Every edit rebuilds the scene: report each of its warnings once per session.
+    for (std::string const& w : scene.warnings()) {
+        std::lock_guard<std::mutex> lock(_mutex);
+        if (_reported.insert(w).second) TF_WARN("hdGi: %s", w.c_str());
+    }
+}
 
 std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightCameraVisibility) const {
     // Snapshot under the lock (records are immutable once stored), build outside it.
@@ -142,11 +177,7 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         scene->addLight(light);
     }
     scene->commit();
-    // Every edit rebuilds the scene: report each of its warnings once per session.
-    for (std::string const& w : scene->warnings()) {
-        std::lock_guard<std::mutex> lock(_mutex);
-        if (_reported.insert(w).second) TF_WARN("hdGi: %s", w.c_str());
-    }
+    ReportWarnings(*scene);
     if (ids) *ids = std::move(map);
     return scene;
 }

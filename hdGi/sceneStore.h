@@ -22,6 +22,10 @@ struct HdGiTriangleMesh {
     std::vector<gi::Vec3> points, normals;
     std::vector<gi::Vec2> uvs;
     std::vector<uint32_t> indices;
+    // Deformation over the shutter (SamplePrimvar of points): times relative to the frame, and
+    // the points at each, as many as `points`. Fewer than two: the mesh does not deform.
+    std::vector<float> pointTimes;
+    std::vector<std::vector<gi::Vec3>> pointSamples;
 };
 
 struct HdGiGeometry {
@@ -33,6 +37,10 @@ struct HdGiGeometry {
     std::vector<std::shared_ptr<const HdGiTriangleMesh>> pieces;
     std::vector<SdfPath> pieceMaterials;
     GfMatrix4d transform{1.0};
+    // Transform motion over the shutter (SampleTransform): times relative to the frame, with the
+    // shutter's boundaries among them. Fewer than two: the transform does not move.
+    std::vector<float> transformTimes;
+    std::vector<GfMatrix4d> transformSamples;
     // Instancer transforms (world = transform * instance). Empty and !instanced: one copy.
     bool instanced = false;
     std::vector<GfMatrix4d> instanceTransforms;
@@ -61,6 +69,10 @@ public:
     std::unique_ptr<gi::Scene> Build(HdGiIdMap* ids, bool domeLightCameraVisibility = true) const;
 
     size_t GeometryCount() const;
+
+    // Sends the scene's warnings to TF_WARN, each once per session: those of building it (Build
+    // does) and those of rendering it (a camera's shutter closing before it opens, ...).
+    void ReportWarnings(gi::Scene const& scene) const;
 
 private:
     mutable std::mutex _mutex;

@@ -1,5 +1,6 @@
 #include "camera.h"
 
+#include "motion.h"
 #include "sampling.h"
 
 namespace gi {
@@ -41,6 +42,10 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
     desc_.clipNear = desc.clipNear >= 0 && std::isfinite(desc.clipNear) ? desc.clipNear : 0.0f;
     desc_.clipFar = desc.clipFar > desc_.clipNear ? desc.clipFar : 1e30f;  // NaN too
     if (!desc.transform.isFinite()) desc_.transform = Mat4();
+    Mat4 inverse;
+    for (const Mat4& m : desc.motionTransforms)
+        if (!m.isFinite() || !m.inverse(inverse)) desc_.motionTransforms.clear();  // the renderer warns
+    if (desc_.motionTransforms.size() < 2) desc_.motionTransforms.clear();
     if (positive(desc.fStop, 0) > 0 && positive(desc.focusDistance, 0) > 0 && !orthographic_) {
         lensRadius_ = focal * kTenthOfUnit / (2 * desc.fStop);
         focusDistance_ = desc.focusDistance;
@@ -49,7 +54,7 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
     forward_ = normalize(desc_.transform.vector(Vec3(0, 0, -1)));
 }
 
-Ray Camera::generateRay(float filmX, float filmY, Vec2 lens) const {
+Ray Camera::generateRay(float filmX, float filmY, Vec2 lens, float time) const {
     float sx = (2 * filmX / width_ - 1) * halfWidth_ + offsetX_;
     float sy = (1 - 2 * filmY / height_) * halfHeight_ + offsetY_;
     Vec3 o(0.0f), d;
@@ -66,8 +71,10 @@ Ray Camera::generateRay(float filmX, float filmY, Vec2 lens) const {
         }
     }
     Ray r;
-    r.o = desc_.transform.point(o);
-    Vec3 wd = desc_.transform.vector(d);
+    const Mat4 toWorld = desc_.motionTransforms.empty() ? desc_.transform : atTime(desc_.motionTransforms, time);
+    r.o = toWorld.point(o);
+    Vec3 wd = toWorld.vector(d);
+    r.time = time;
     float len = length(wd);
     r.d = wd / len;
     // Clipping planes are distances along the view axis; convert to distances along the ray.

@@ -161,6 +161,7 @@ inline Vec3 Mat4::normal(const Vec3& n) const {
 struct Ray {
     Vec3 o, d;
     float tMin = 0, tMax = kInf;
+    float time = 0;  // within the camera's shutter: 0 = open, 1 = close (motion.h)
 };
 
 // Offsets a ray origin off a surface along the geometric normal, scaled with the magnitude

@@ -108,11 +108,11 @@ RenderReplayResult replayRenderRays(const Scene& scene, RenderSettings settings)
             for (size_t i = batch * kBatch, end = std::min(rays.size(), i + kBatch); i < end; ++i) {
                 const RecordedRay& r = rays[i];
                 if (r.occlusion) {
-                    RTCRay ray = toEmbreeRay(r.o, r.d, r.tMin, r.tMax);
+                    RTCRay ray = toEmbreeRay(r.o, r.d, r.tMin, r.tMax, r.time);
                     rtcOccluded1(rtc, &context, &ray);
                     h += ray.tfar < 0;
                 } else {
-                    RTCRayHit rh = toEmbreeRayHit(r.o, r.d, r.tMin, r.tMax);
+                    RTCRayHit rh = toEmbreeRayHit(r.o, r.d, r.tMin, r.tMax, r.time);
                     rtcIntersect1(rtc, &context, &rh);
                     h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
                 }

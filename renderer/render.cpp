@@ -92,6 +92,17 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
             scene.warn("camera " + desc.name + ": NaN or Inf in its lens or clipping settings; defaults used there");
             break;
         }
+    if (desc.shutterClose < desc.shutterOpen || std::isnan(desc.shutterOpen) || std::isnan(desc.shutterClose))
+        scene.warn("camera " + desc.name + ": shutter:close (" + std::to_string(desc.shutterClose) +
+                   ") is before shutter:open (" + std::to_string(desc.shutterOpen) +
+                   ") or not a number; rendered without motion blur");
+    Mat4 inverse;
+    for (const Mat4& m : desc.motionTransforms)
+        if (!m.isFinite() || !m.inverse(inverse)) {
+            scene.warn("camera " + desc.name + ": NaN, Inf or singular transform among its motion steps; rendered "
+                       "without camera motion");
+            break;
+        }
     cameraDesc_ = desc;
     camera_ = Camera(desc, settings.width, settings.height);
 }
@@ -245,7 +256,8 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
                         Vec2 pixel = sampler.get2D();
                         Vec2 lens = sampler.get2D();
                         float fx = x + pixel.x, fy = y + pixel.y;
-                        Ray ray = camera_.generateRay(fx, fy, lens);
+                        float time = camera_.hasShutterInterval() ? sampler.shutterTime() : 0.0f;
+                        Ray ray = camera_.generateRay(fx, fy, lens, time);
                         SampleAovs aovs;
                         Color L = integrator_->Li(ray, scene_, sampler, c.rays, &aovs);
                         if (!isFinite(L) || L.x < 0 || L.y < 0 || L.z < 0) {

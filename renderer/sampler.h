@@ -84,16 +84,12 @@ public:
         dimension_ = 0;
     }
 
-    Vec2 get2D() {
-        uint32_t pairSeed = hashCombine(pixelHash_, dimension_++);
-        uint32_t index = nestedUniformScramble(sampleIndex_, pairSeed);
-        // nestedUniformScramble(reverseBits(index)) simplified: the two bit reversals cancel.
-        // Per-coordinate seeds from the pair's hash by odd multipliers: distinct, and cheaper than rehashing.
-        uint32_t x = reverseBits(laineKarrasPermutation(index, pairSeed * 0x68bc21ebu));
-        uint32_t y = reverseBits(laineKarrasPermutation(sobolDimension1Reversed(index), pairSeed * 0x02e5be93u));
-        return {uintToUnitFloat(x), uintToUnitFloat(y)};
-    }
+    Vec2 get2D() { return sample2D(dimension_++); }
     float get1D() { return get2D().x; }
+    // The time within the shutter (0 = open, 1 = close) of this camera sample or photon: a
+    // dimension of its own, outside the sequence get2D walks, so that drawing it shifts no other
+    // dimension and a scene where nothing moves renders bit-identically with or without a shutter.
+    float shutterTime() const { return sample2D(kShutterDimension).x; }
     uint32_t sampleIndex() const { return sampleIndex_; }  // the camera sample (or stream index) started
 
     // An independent stream for work that is not per pixel (photons, cache records).
@@ -104,6 +100,19 @@ public:
     }
 
 private:
+    // Far beyond any path's dimension count (paths stop at kDepthCap bounces of a few pairs each).
+    static constexpr uint32_t kShutterDimension = 0x5bd1e995u;
+
+    Vec2 sample2D(uint32_t dimension) const {
+        uint32_t pairSeed = hashCombine(pixelHash_, dimension);
+        uint32_t index = nestedUniformScramble(sampleIndex_, pairSeed);
+        // nestedUniformScramble(reverseBits(index)) simplified: the two bit reversals cancel.
+        // Per-coordinate seeds from the pair's hash by odd multipliers: distinct, and cheaper than rehashing.
+        uint32_t x = reverseBits(laineKarrasPermutation(index, pairSeed * 0x68bc21ebu));
+        uint32_t y = reverseBits(laineKarrasPermutation(sobolDimension1Reversed(index), pairSeed * 0x02e5be93u));
+        return {uintToUnitFloat(x), uintToUnitFloat(y)};
+    }
+
     uint32_t seed_;
     uint32_t pixelHash_ = 0;
     uint32_t sampleIndex_ = 0;

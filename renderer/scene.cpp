@@ -2,6 +2,7 @@
 
 #include "embree_ray.h"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <sstream>
@@ -101,7 +102,7 @@ int Scene::addPrototype(const std::string& name) {
 
 int Scene::addMesh(const std::string& name, std::vector<Vec3> positions, std::vector<uint32_t> indices,
                    std::vector<Vec3> normals, std::vector<Vec2> uvs, int material, const Mat4* transform,
-                   bool doubleSided, int prototype) {
+                   bool doubleSided, int prototype, const MotionSteps& motion) {
     if (prototype >= int(prototypes_.size())) {
         warn("mesh " + name + ": unknown prototype " + std::to_string(prototype) + "; ignored");
         return -1;
@@ -126,8 +127,24 @@ int Scene::addMesh(const std::string& name, std::vector<Vec3> positions, std::ve
             n = Vec3(0.0f);  // shading falls back to the geometric normal
             ++badNormals;
         }
+    std::vector<Mat4> stepTransforms;
+    std::vector<std::vector<Vec3>> stepPositions = meshMotion(name, positions, transform, prototype, motion, stepTransforms);
+    std::vector<std::vector<Vec3>> stepNormals;
+    if (!normals.empty() && !stepTransforms.empty())
+        for (const Mat4& m : stepTransforms) {
+            std::vector<Vec3> step = normals;
+            for (Vec3& n : step)
+                if (lengthSquared(n) > 0) n = normalize(m.normal(n));
+            stepNormals.push_back(std::move(step));
+        }
     // Bake the transform into top-level meshes; prototypes keep object space.
-    if (transform && prototype < 0) {
+    if (!stepPositions.empty()) {
+        positions = stepPositions[0];
+        if (!stepNormals.empty()) normals = stepNormals[0];
+        else if (transform && prototype < 0)
+            for (Vec3& n : normals)
+                if (lengthSquared(n) > 0) n = normalize(transform->normal(n));
+    } else if (transform && prototype < 0) {
         for (Vec3& p : positions) p = transform->point(p);
         for (Vec3& n : normals)
             if (lengthSquared(n) > 0) n = normalize(transform->normal(n));
@@ -171,14 +188,28 @@ int Scene::addMesh(const std::string& name, std::vector<Vec3> positions, std::ve
         warn("mesh " + name + ": no valid triangles; ignored");
         return -1;
     }
+    for (size_t step = 1; step < stepPositions.size(); ++step)
+        for (uint32_t i : kept)
+            if (!embreeValid(stepPositions[step][i])) {
+                warn("mesh " + name + ": NaN, Inf or out-of-range points at motion step " + std::to_string(step) +
+                     "; rendered without motion blur");
+                stepPositions.clear();
+                stepNormals.clear();
+                break;
+            }
     for (Vec3& p : positions)
         if (!embreeValid(p)) p = Vec3(0.0f);  // unreferenced now; keep Embree's bounds finite
+    for (auto& step : stepPositions)
+        for (Vec3& p : step)
+            if (!embreeValid(p)) p = Vec3(0.0f);
     Shape s;
     s.name = name;
     s.positions = std::move(positions);
     s.normals = std::move(normals);
     s.uvs = std::move(uvs);
     s.indices = std::move(kept);
+    s.stepPositions = std::move(stepPositions);
+    s.stepNormals = std::move(stepNormals);
     s.material = material;
     s.doubleSided = doubleSided;
     s.prototype = prototype;
@@ -189,17 +220,27 @@ int Scene::addMesh(const std::string& name, std::vector<Vec3> positions, std::ve
 }
 
 int Scene::addSphere(const std::string& name, Vec3 center, float radius, int material, const Mat4* transform,
-                     int prototype) {
+                     int prototype, const MotionSteps& motion) {
     if (!isFinite(center) || !std::isfinite(radius) || !(radius > 0) || (transform && !transform->isFinite())) {
         warn("sphere " + name + ": NaN, Inf or non-positive radius; ignored");
         return -1;
     }
     if (material < 0 || material >= int(materialDescs_.size())) material = defaultMaterial();
-    if (transform && prototype < 0 && !isSimilarity(*transform)) {
+    if (!motion.points.empty()) warn("sphere " + name + ": point motion does not apply to a sphere; ignored");
+    std::vector<Mat4> steps;
+    if (!motion.transforms.empty() && prototype >= 0)
+        warn("sphere " + name + ": transform motion inside a prototype is ignored (its instances' motion applies)");
+    else
+        steps = transformMotion("sphere " + name, motion);
+    bool round = !transform || isSimilarity(*transform);
+    for (const Mat4& m : steps) round = round && isSimilarity(m);
+    if ((transform || !steps.empty()) && prototype < 0 && !round) {
         // Embree spheres are round: an ellipsoid is a unit sphere under an instance transform.
         int proto = addPrototype(name);
         int id = addSphere(name, center, radius, material, nullptr, proto);
-        addInstance(proto, *transform, name);
+        MotionSteps instanceMotion;
+        instanceMotion.transforms = steps;
+        addInstance(proto, steps.empty() ? *transform : steps[0], name, instanceMotion);
         return id;
     }
     Shape s;
@@ -211,9 +252,18 @@ int Scene::addSphere(const std::string& name, Vec3 center, float radius, int mat
         s.center = transform->point(center);
         s.radius = radius * std::cbrt(std::fabs(float(transform->det3())));
     }
-    if (!embreeValid(s.center) || !(s.radius < kMaxEmbreeCoordinate)) {
-        warn("sphere " + name + ": beyond the renderer's range (coordinates or radius above 1e18); ignored");
-        return -1;
+    for (const Mat4& m : steps) {
+        s.stepCenters.push_back(m.point(center));
+        s.stepRadii.push_back(radius * std::cbrt(std::fabs(float(m.det3()))));
+    }
+    if (!steps.empty()) s.center = s.stepCenters[0], s.radius = s.stepRadii[0];
+    for (size_t i = 0; i < std::max<size_t>(1, steps.size()); ++i) {
+        Vec3 c = steps.empty() ? s.center : s.stepCenters[i];
+        float r = steps.empty() ? s.radius : s.stepRadii[i];
+        if (!embreeValid(c) || !(r < kMaxEmbreeCoordinate)) {
+            warn("sphere " + name + ": beyond the renderer's range (coordinates or radius above 1e18); ignored");
+            return -1;
+        }
     }
     s.material = material;
     s.prototype = prototype;
@@ -223,7 +273,7 @@ int Scene::addSphere(const std::string& name, Vec3 center, float radius, int mat
     return id;
 }
 
-int Scene::addInstance(int prototype, const Mat4& transform, const std::string& name) {
+int Scene::addInstance(int prototype, const Mat4& transform, const std::string& name, const MotionSteps& motion) {
     if (prototype < 0 || prototype >= int(prototypes_.size())) {
         warn("instance " + name + ": unknown prototype; ignored");
         return -1;
@@ -233,7 +283,9 @@ int Scene::addInstance(int prototype, const Mat4& transform, const std::string& 
         warn("instance " + name + ": NaN, Inf or singular transform; ignored");
         return -1;
     }
-    instances_.push_back(Instance{name, prototype, transform});
+    if (!motion.points.empty()) warn("instance " + name + ": point motion does not apply to an instance; ignored");
+    std::vector<Mat4> steps = transformMotion("instance " + name, motion);
+    instances_.push_back(Instance{name, prototype, steps.empty() ? transform : steps[0], steps});
     return int(instances_.size()) - 1;
 }
 
@@ -293,18 +345,27 @@ void Scene::bindMaterials() {
 void Scene::buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, int shapeId) {
     const Shape& s = shapes_[shapeId];
     RTCGeometry g;
+    // Moving shapes get one vertex buffer per time step (Embree's multi-segment motion blur).
+    const size_t steps = s.isSphere ? s.stepCenters.size() : s.stepPositions.size();
     if (s.isSphere) {
         g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-        float* v = static_cast<float*>(
-            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
-        v[0] = s.center.x, v[1] = s.center.y, v[2] = s.center.z, v[3] = s.radius;
+        if (steps) rtcSetGeometryTimeStepCount(g, unsigned(steps));
+        for (size_t step = 0; step < std::max<size_t>(1, steps); ++step) {
+            Vec3 c = steps ? s.stepCenters[step] : s.center;
+            float* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, unsigned(step),
+                                                                   RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+            v[0] = c.x, v[1] = c.y, v[2] = c.z, v[3] = steps ? s.stepRadii[step] : s.radius;
+        }
         stats_.spheres++;
     } else {
         g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-        float* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                               3 * sizeof(float), s.positions.size()));
-        for (size_t i = 0; i < s.positions.size(); ++i) {
-            v[3 * i] = s.positions[i].x, v[3 * i + 1] = s.positions[i].y, v[3 * i + 2] = s.positions[i].z;
+        if (steps) rtcSetGeometryTimeStepCount(g, unsigned(steps));
+        for (size_t step = 0; step < std::max<size_t>(1, steps); ++step) {
+            const std::vector<Vec3>& points = steps ? s.stepPositions[step] : s.positions;
+            float* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, unsigned(step),
+                                                                   RTC_FORMAT_FLOAT3, 3 * sizeof(float), points.size()));
+            for (size_t i = 0; i < points.size(); ++i)
+                v[3 * i] = points[i].x, v[3 * i + 1] = points[i].y, v[3 * i + 2] = points[i].z;
         }
         size_t triangles = s.indices.size() / 3;
         uint32_t* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
@@ -312,6 +373,7 @@ void Scene::buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, i
         std::copy(s.indices.begin(), s.indices.end(), idx);
         stats_.triangles += triangles;
     }
+    if (steps) stats_.movingShapes++;
     rtcCommitGeometry(g);
     unsigned geomId = rtcAttachGeometry(target, g);
     rtcReleaseGeometry(g);
@@ -340,11 +402,20 @@ void Scene::commit() {
         const Instance& inst = instances_[i];
         RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(g, prototypes_[inst.prototype].rtc);
-        // Embree's column-major layout of M^T is exactly USD's row-major M.
-        float m[16];
-        for (int r = 0; r < 4; ++r)
-            for (int c = 0; c < 4; ++c) m[r * 4 + c] = float(inst.toWorld.m[r][c]);
-        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, m);
+        // Embree's column-major layout of M^T is exactly USD's row-major M. A moving instance
+        // gets one transform per time step (linearly interpolated, as motion.h's atTime).
+        const size_t steps = inst.stepToWorld.size();
+        if (steps) {
+            rtcSetGeometryTimeStepCount(g, unsigned(steps));
+            stats_.movingInstances++;
+        }
+        for (size_t step = 0; step < std::max<size_t>(1, steps); ++step) {
+            const Mat4& toWorld = steps ? inst.stepToWorld[step] : inst.toWorld;
+            float m[16];
+            for (int r = 0; r < 4; ++r)
+                for (int c = 0; c < 4; ++c) m[r * 4 + c] = float(toWorld.m[r][c]);
+            rtcSetGeometryTransform(g, unsigned(step), RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, m);
+        }
         rtcCommitGeometry(g);
         unsigned geomId = rtcAttachGeometry(top_, g);
         rtcReleaseGeometry(g);
@@ -355,9 +426,19 @@ void Scene::commit() {
     stats_.instances = instances_.size();
     stats_.prototypes = prototypes_.size();
 
+    // With motion, bounds over the whole shutter: the union of the linear bounds at open and at
+    // close. Without, the scene's bounds (so that a scene where nothing moves is unchanged).
     RTCBounds b;
     rtcGetSceneBounds(top_, &b);
     Vec3 lo(b.lower_x, b.lower_y, b.lower_z), hi(b.upper_x, b.upper_y, b.upper_z);
+    if (hasMotion()) {
+        RTCLinearBounds linear;
+        rtcGetSceneLinearBounds(top_, &linear);
+        lo = vmin(Vec3(linear.bounds0.lower_x, linear.bounds0.lower_y, linear.bounds0.lower_z),
+                  Vec3(linear.bounds1.lower_x, linear.bounds1.lower_y, linear.bounds1.lower_z));
+        hi = vmax(Vec3(linear.bounds0.upper_x, linear.bounds0.upper_y, linear.bounds0.upper_z),
+                  Vec3(linear.bounds1.upper_x, linear.bounds1.upper_y, linear.bounds1.upper_z));
+    }
     if (isFinite(lo) && isFinite(hi) && hi.x >= lo.x) {
         boundsMin_ = lo;
         boundsMax_ = hi;
@@ -403,13 +484,21 @@ void Scene::buildLights() {
         return first;
     };
     for (Shape& s : shapes_)
-        if (s.prototype < 0 && !s.isSphere && materials_[s.material]->isEmissive()) s.lightOffset = addTriangles(s, nullptr);
+        if (s.prototype < 0 && !s.isSphere && materials_[s.material]->isEmissive()) {
+            if (!s.stepPositions.empty())
+                warn("mesh " + s.name + ": an emissive mesh moves; it is sampled as a light where it is at shutter "
+                     "open (hit where it is at each ray's time)");
+            s.lightOffset = addTriangles(s, nullptr);
+        }
     for (const Shape& s : shapes_)
         if (s.isSphere && materials_[s.material]->isEmissive())
             warn("sphere " + s.name + ": emissive spheres are lit only when hit, not sampled as lights");
     for (Instance& inst : instances_) {
         const Prototype& p = prototypes_[inst.prototype];
         if (!p.emissive) continue;
+        if (!inst.stepToWorld.empty())
+            warn("instance " + inst.name + ": an emissive instance moves; it is sampled as a light where it is at "
+                 "shutter open (hit where it is at each ray's time)");
         inst.lightOffset = int(lights_.size());
         for (int sid : p.shapes)
             if (!shapes_[sid].isSphere && materials_[shapes_[sid].material]->isEmissive())
@@ -448,6 +537,9 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const RTCRayHit& rh) c
         shapeId = topGeomToShape_[h.geomID];
     }
     const Shape& s = shapes_[shapeId];
+    // The geometry the ray hit: moving shapes and instances where they are at the ray's time.
+    const Mat4 toWorld = !inst ? Mat4() : inst->stepToWorld.empty() ? inst->toWorld : atTime(inst->stepToWorld, ray.time);
+    si.time = ray.time;
     si.t = rh.ray.tfar;
     si.p = ray.o + ray.d * si.t;
     si.primId = h.primID;
@@ -456,28 +548,34 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const RTCRayHit& rh) c
     si.doubleSided = s.doubleSided;
     Vec3 ng, ns;
     if (s.isSphere) {
-        Vec3 local = inst ? Vec3(0.0f) : si.p - s.center;
+        Vec3 center = s.stepCenters.empty() ? s.center : atTime(s.stepCenters, ray.time);
+        float radius = s.stepRadii.empty() ? s.radius : atTime(s.stepRadii, ray.time);
+        Vec3 local = inst ? Vec3(0.0f) : si.p - center;
         if (inst) {
             Mat4 inv;
-            inst->toWorld.inverse(inv);
-            local = inv.point(si.p) - s.center;
+            toWorld.inverse(inv);
+            local = inv.point(si.p) - center;
         }
         Vec3 n = normalize(local);
         ng = ns = n;
         si.uv = Vec2(0.5f + std::atan2(n.z, n.x) / (2 * kPi), std::acos(std::clamp(n.y, -1.0f, 1.0f)) / kPi);
         // Re-project onto the sphere: removes the intersection's float error along the ray.
-        Vec3 surface = s.center + n * s.radius;
-        si.p = inst ? inst->toWorld.point(surface) : surface;
+        Vec3 surface = center + n * radius;
+        si.p = inst ? toWorld.point(surface) : surface;
     } else {
         uint32_t i0 = s.indices[3 * h.primID], i1 = s.indices[3 * h.primID + 1], i2 = s.indices[3 * h.primID + 2];
         float b1 = h.u, b2 = h.v, b0 = 1 - b1 - b2;
-        const Vec3 &p0 = s.positions[i0], &p1 = s.positions[i1], &p2 = s.positions[i2];
+        const bool moving = !s.stepPositions.empty();
+        const Vec3 p0 = moving ? atTime(s.stepPositions, ray.time, i0) : s.positions[i0];
+        const Vec3 p1 = moving ? atTime(s.stepPositions, ray.time, i1) : s.positions[i1];
+        const Vec3 p2 = moving ? atTime(s.stepPositions, ray.time, i2) : s.positions[i2];
         ng = normalize(cross(p1 - p0, p2 - p0));
         Vec3 objectP = p0 * b0 + p1 * b1 + p2 * b2;
-        si.p = inst ? inst->toWorld.point(objectP) : objectP;
+        si.p = inst ? toWorld.point(objectP) : objectP;
         ns = ng;
         if (!s.normals.empty()) {
-            Vec3 n = s.normals[i0] * b0 + s.normals[i1] * b1 + s.normals[i2] * b2;
+            auto normal = [&](uint32_t i) { return s.stepNormals.empty() ? s.normals[i] : atTime(s.stepNormals, ray.time, i); };
+            Vec3 n = normal(i0) * b0 + normal(i1) * b1 + normal(i2) * b2;
             if (lengthSquared(n) > 1e-12f) ns = normalize(n);
         }
         if (!s.uvs.empty()) {
@@ -496,9 +594,9 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const RTCRayHit& rh) c
         }
     }
     if (inst) {
-        ng = normalize(inst->toWorld.normal(ng));
-        ns = normalize(inst->toWorld.normal(ns));
-        if (inst->toWorld.det3() < 0) {  // mirroring flips the winding
+        ng = normalize(toWorld.normal(ng));
+        ns = normalize(toWorld.normal(ns));
+        if (toWorld.det3() < 0) {  // mirroring flips the winding
             ng = -ng;
             ns = -ns;
         }
@@ -596,11 +694,11 @@ Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) c
     // A NaN ray (from a broken camera or a numerical accident upstream) hits nothing: Embree's
     // behaviour on it is undefined (its debug builds assert).
     if (!embreeValid(ray.o) || !embreeValid(ray.d) || std::isnan(ray.tMin) || std::isnan(ray.tMax)) return Intersection();
-    if (stats.record) stats.record->push_back({ray.o, ray.d, ray.tMin, ray.tMax, false});
+    if (stats.record) stats.record->push_back({ray.o, ray.d, ray.tMin, ray.tMax, false, ray.time});
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-    RTCRayHit rh = toEmbreeRayHit(ray.o, ray.d, ray.tMin, ray.tMax);
+    RTCRayHit rh = toEmbreeRayHit(ray.o, ray.d, ray.tMin, ray.tMax, ray.time);
     rtcIntersect1(top_, &context, &rh);
     Intersection result;
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
@@ -613,14 +711,14 @@ Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) c
     return result;
 }
 
-bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats) const {
+bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats, float time) const {
     ++stats.rays;
     if (!embreeValid(origin) || !embreeValid(dir) || std::isnan(distance)) return true;  // no light along a NaN ray
-    if (stats.record) stats.record->push_back({origin, dir, 0, distance, true});
+    if (stats.record) stats.record->push_back({origin, dir, 0, distance, true, time});
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-    RTCRay r = toEmbreeRay(origin, dir, 0, distance);
+    RTCRay r = toEmbreeRay(origin, dir, 0, distance, time);
     rtcOccluded1(top_, &context, &r);
     return r.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
@@ -632,7 +730,7 @@ bool Scene::visible(const SurfaceInteraction& si, const Vec3& wi, float distance
                   ? distance * (1 - 1e-4f) - length(o - si.p) - 4 * pointErrorBound(si.p + wi * distance)
                   : kInf;
     if (std::isfinite(d) && d <= 0) return true;
-    return !occluded(o, wi, d, stats);
+    return !occluded(o, wi, d, stats, si.time);
 }
 
 }  // namespace gi

@@ -1,7 +1,8 @@
 // The scene: triangle meshes, exact spheres and instances in Embree 3, UsdPreviewSurface
 // materials, UsdLux lights (intersected analytically, not in the BVH) and emissive triangles.
 // Built through add* calls, then committed once; after commit it is read-only and all
-// queries are thread-safe.
+// queries are thread-safe. Moving shapes and instances (motion.h) become Embree motion geometry;
+// static ones stay static, so a scene where nothing moves is built as without motion blur.
 #pragma once
 #include <embree3/rtcore.h>
 
@@ -16,6 +17,7 @@
 #include "image_cache.h"
 #include "light.h"
 #include "material.h"
+#include "motion.h"
 
 namespace gi {
 
@@ -25,6 +27,7 @@ struct RecordedRay {
     Vec3 o, d;
     float tMin, tMax;
     bool occlusion;  // rtcOccluded1 (shadow ray) rather than rtcIntersect1
+    float time = 0;  // within the shutter (Ray::time)
 };
 
 struct RayStats {
@@ -39,6 +42,7 @@ struct SurfaceInteraction {
     Vec3 ns;          // shading normal, unit, world space (same hemisphere as ng)
     Vec2 uv;
     float t = 0;
+    float time = 0;   // the ray's time within the shutter (motion.h): rays leaving here keep it
     const Material* material = nullptr;
     int emissiveLight = -1;  // index into lights() when the surface is an emissive triangle
     uint32_t primId = 0, shapeId = 0, instanceId = 0xffffffffu;
@@ -62,13 +66,18 @@ public:
     // --- building (not thread-safe) ---
     int addMaterial(const MaterialDesc& desc);
     int addPrototype(const std::string& name);
-    // Returns the shape id, or -1 (with a warning) if nothing usable remained.
+    // Returns the shape id, or -1 (with a warning) if nothing usable remained. `motion`: the
+    // positions (deformation) and/or the transform over the shutter; a mesh whose steps are all
+    // equal is static. Transform motion applies to top-level shapes (a prototype's shapes move
+    // with their instances).
     int addMesh(const std::string& name, std::vector<Vec3> positions, std::vector<uint32_t> indices,
                 std::vector<Vec3> normals, std::vector<Vec2> uvs, int material, const Mat4* transform,
-                bool doubleSided, int prototype);
+                bool doubleSided, int prototype, const MotionSteps& motion = {});
+    // motion.transforms only (a sphere does not deform; a changing radius is a scale).
     int addSphere(const std::string& name, Vec3 center, float radius, int material, const Mat4* transform,
-                  int prototype);
-    int addInstance(int prototype, const Mat4& transform, const std::string& name);
+                  int prototype, const MotionSteps& motion = {});
+    // motion.transforms only: the instance's transform over the shutter.
+    int addInstance(int prototype, const Mat4& transform, const std::string& name, const MotionSteps& motion = {});
     int addLight(const LightDesc& desc);
     void setCamera(const CameraDesc& desc) { cameraDesc_ = desc; hasCamera_ = true; }
     void commit();
@@ -77,8 +86,9 @@ public:
     // --- queries (thread-safe after commit) ---
     // cameraRay: skip lights that are invisible to the camera.
     Intersection intersect(const Ray& ray, RayStats& stats, bool cameraRay = false) const;
-    bool occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats) const;
-    // Shadow test between a surface point and a light sample, offsetting the origin.
+    // `time`: within the shutter (Ray::time); preprocessing tests (portals) see shutter open.
+    bool occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats, float time = 0) const;
+    // Shadow test between a surface point and a light sample, offsetting the origin (at si.time).
     bool visible(const SurfaceInteraction& si, const Vec3& wi, float distance, RayStats& stats) const;
 
     const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
@@ -94,6 +104,7 @@ public:
     int materialCount() const { return int(materials_.size()); }
     bool hasSpecularSurfaces() const { return hasSpecular_; }
     const std::string& shapeName(uint32_t shape) const { return shapes_[shape].name; }
+    bool hasMotion() const { return stats_.movingShapes + stats_.movingInstances > 0; }
 
     void warn(const std::string& message) const;
     std::vector<std::string> warnings() const;
@@ -105,6 +116,7 @@ public:
         size_t triangles = 0, spheres = 0, instances = 0, prototypes = 0, lights = 0, emissiveTriangles = 0;
         size_t textureBytes = 0, textures = 0;
         size_t portals = 0;  // portal lights in use (portal.h)
+        size_t movingShapes = 0, movingInstances = 0;  // built as Embree motion geometry
         size_t texturesRead = 0;  // of `textures`, read from disk (the rest came from a shared ImageCache)
         double buildSeconds = 0;
     };
@@ -124,6 +136,10 @@ private:
         std::vector<uint32_t> indices;
         Vec3 center;
         float radius = 0;
+        // Motion (empty when static): per time step, step 0 equal to positions / center and radius.
+        std::vector<std::vector<Vec3>> stepPositions, stepNormals;
+        std::vector<Vec3> stepCenters;
+        std::vector<float> stepRadii;
         int material = 0;
         bool doubleSided = true;
         int prototype = -1;
@@ -140,11 +156,19 @@ private:
     struct Instance {
         std::string name;
         int prototype;
-        Mat4 toWorld;
+        Mat4 toWorld;                 // at shutter open
+        std::vector<Mat4> stepToWorld;  // per time step when it moves; empty when static
         int lightOffset = -1;  // first light of this instance's emissive triangles
     };
 
     void buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, int shapeId);
+    // The validated steps of a mesh's motion, or empty (warned about when unusable); `transforms`:
+    // the per-step transforms baked into them (empty when the static one was).
+    std::vector<std::vector<Vec3>> meshMotion(const std::string& name, const std::vector<Vec3>& positions,
+                                              const Mat4* transform, int prototype, const MotionSteps& motion,
+                                              std::vector<Mat4>& transforms);
+    // motion.transforms validated (finite, invertible, as many as motion's steps), or empty.
+    std::vector<Mat4> transformMotion(const std::string& what, const MotionSteps& motion);
     void buildLights();
     void buildLightBvh();
     // The nearest analytic light (rect, disk, sphere, cylinder) along `ray` before its tMax.

@@ -79,7 +79,10 @@ class CameraDesc:
     f_stop: float                  # 0 = pinhole
     focus_distance: float
     clipping_range: tuple[float, float]
+    shutter_open: float            # frames relative to the rendered time; close > open: motion blur,
+    shutter_close: float           # each camera ray at a time in [open, close] (close < open: warned)
     transform: npt.NDArray[np.float64]   # 4x4 camera-to-world, USD convention (camera looks down -Z)
+    motion_transforms: Optional[npt.NDArray[np.float64]]  # (S, 4, 4) over the shutter when it moves, else None
     def __init__(self) -> None: ...
 
 class Scene:
@@ -97,14 +100,21 @@ class Scene:
                  material: int = -1,                       # -1 = default grey diffuse
                  transform: Optional[npt.NDArray[np.float64]] = None, # 4x4 USD convention
                  double_sided: bool = True,
-                 prototype: int = -1) -> int:
+                 prototype: int = -1,
+                 motion_points: Optional[npt.NDArray[np.float32]] = None,      # (S, N, 3)
+                 motion_transforms: Optional[npt.NDArray[np.float64]] = None,  # (S, 4, 4)
+                 ) -> int:
         """Adds a triangle mesh (in `prototype` if >= 0). Face-varying data must be de-indexed by the
         caller. Bad data (NaN points, out-of-range indices, degenerate triangles) is repaired or
-        dropped with a warning naming `name`; returns -1 (with a warning) if nothing usable remains."""
+        dropped with a warning naming `name`; returns -1 (with a warning) if nothing usable remains.
+        Motion blur: the points (deformation) and/or the transform at S >= 2 evenly spaced times over
+        the camera's shutter, the first at shutter open; all steps equal: static."""
     def add_sphere(self, name: str, center: Sequence[float], radius: float, material: int = -1,
-                   transform: Optional[npt.NDArray[np.float64]] = None, prototype: int = -1) -> int:
+                   transform: Optional[npt.NDArray[np.float64]] = None, prototype: int = -1,
+                   motion_transforms: Optional[npt.NDArray[np.float64]] = None) -> int:
         """An exact sphere (Embree sphere geometry). Non-uniform transforms are handled by instancing."""
-    def add_instance(self, prototype: int, transform: npt.NDArray[np.float64], name: str = "") -> int: ...
+    def add_instance(self, prototype: int, transform: npt.NDArray[np.float64], name: str = "",
+                     motion_transforms: Optional[npt.NDArray[np.float64]] = None) -> int: ...
     def add_light(self, light: LightDesc) -> int: ...
     def set_camera(self, camera: CameraDesc) -> None: ...
     def commit(self) -> None:
@@ -112,7 +122,8 @@ class Scene:
     def warnings(self) -> list[str]:
         """Every warning issued while building and committing, each naming its prim."""
     def stats(self) -> dict: ...   # triangles, spheres, instances, prototypes, lights, emissive_triangles,
-                                   # textures, texture_bytes, build_seconds, committed, specular_surfaces
+                                   # textures, texture_bytes, build_seconds, committed, specular_surfaces,
+                                   # moving_shapes, moving_instances (Embree motion geometry)
 
 class RenderSettings:
     width: int

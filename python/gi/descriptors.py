@@ -79,7 +79,10 @@ class _CameraDesc:
     f_stop: float = 0.0
     focus_distance: float = 0.0
     clipping_range: tuple = (1e-4, 1e30)
+    shutter_open: float = 0.0
+    shutter_close: float = 0.0
     transform: np.ndarray = field(default_factory=_identity)
+    motion_transforms: object = None   # (steps, 4, 4) over the shutter when the camera moves
 
 
 class CountingScene:
@@ -105,7 +108,7 @@ class CountingScene:
     def add_sphere(self, name, center, radius, *args, **kwargs):
         return self._new_id("sphere")
 
-    def add_instance(self, prototype, transform, name=""):
+    def add_instance(self, prototype, transform, name="", motion_transforms=None):
         return self._new_id("instance")
 
     def add_light(self, light):

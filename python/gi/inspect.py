@@ -109,6 +109,8 @@ def inspect_scene(path):
         "caustic_surfaces": caustics,
         "dome_lights": loaded.light_kinds.get("dome", 0),
         "instancing": loaded.counts.get("instances", 0) > 0,
+        "moving": loaded.moving,
+        "shutter": None if loaded.shutter is None else (loaded.shutter.open, loaded.shutter.close),
         **analysis,
         "build_seconds": stats.get("build_seconds"),
         "warnings": loaded.warnings + list(loaded.scene.warnings()),
@@ -156,6 +158,14 @@ def format_report(report):
     lines.append(f"  needs: dome light {yes_no(bool(dome))}" + (f" ({dome})" if dome else ""))
     lines.append(f"  needs: instancing {yes_no(report['instancing'])} ({counts['instances']} instances, "
                  f"{report['point_instancers']} point instancers, {report['instanceable_prims']} instanceable prims)")
+    moving = report.get("moving") or {}
+    if moving:  # nothing about motion when nothing moves
+        opens, closes = report["shutter"]
+        lines.append(f"  motion blur: {len(moving)} moving prims over the shutter, time codes {opens:g} to {closes:g}")
+        for path, kinds in sorted(moving.items())[:10]:
+            lines.append(f"      {path} ({', '.join(kinds)})")
+        if len(moving) > 10:
+            lines.append(f"      ... and {len(moving) - 10} more")
     if report.get("build_seconds") is not None:
         lines.append(f"  BVH build: {report['build_seconds']:.3f} s")
     lines += [f"  warning: {message}" for message in report["warnings"]]

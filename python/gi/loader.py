@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from pxr import Gf, Usd, UsdGeom, UsdLux, UsdRender, UsdShade
 
-from . import descriptors
+from . import descriptors, motion
 from .errors import SceneError
 from .geometry import IMPLICIT_TYPES, implicit_triangles, mesh_triangles
 from .lights import is_light, light_desc
@@ -43,6 +43,9 @@ class LoadedScene:
     light_kinds: dict = field(default_factory=dict)  # 'rect' -> how many, ...
     textures: dict = field(default_factory=dict)     # texture asset path -> resolved file, None if missing
     prims: int = 0                                   # prims on the stage
+    # prims rendered with motion blur -> what moves ('transform', 'deformation'); empty when nothing moves
+    moving: dict = field(default_factory=dict)
+    shutter: object = None                           # motion.Shutter, or None (no motion blur)
 
 
 def matrix(gf_matrix):
@@ -91,13 +94,16 @@ def open_stage(path, allow_missing=False):
     return stage
 
 
-class StageLoader:
+class StageLoader(motion.MotionSampling):
     """One pass over a stage, adding what it finds to `scene`."""
 
-    def __init__(self, stage, scene, time, file, refine_level=0):
+    def __init__(self, stage, scene, time, file, refine_level=0, shutter=None):
         self.stage, self.scene, self.time, self.file = stage, scene, time, file
         self.refine_level = refine_level
+        self.shutter = shutter  # motion.Shutter: moving prims are sampled over it
         self.xforms = UsdGeom.XformCache(time)
+        self.step_xforms = {}   # time -> XformCache, for the motion steps
+        self.moving = {}        # prim path -> kinds of motion (motion.MotionSampling.note_motion)
         self.warnings = []
         self.materials = MaterialLibrary(scene, time, self.warn)
         self.prototypes = {}    # prototype root path -> prototype id
@@ -165,10 +171,21 @@ class StageLoader:
 
     def add_sphere(self, prim, transform, prototype):
         material, _ = self.materials.bind(prim)
-        radius = float(UsdGeom.Sphere(prim).GetRadiusAttr().Get(self.time))
+        radius_attribute = UsdGeom.Sphere(prim).GetRadiusAttr()
+        radius = float(radius_attribute.Get(self.time))
         name = str(prim.GetPath())
-        if self.scene.add_sphere(name, (0.0, 0.0, 0.0), radius, material, transform, prototype) >= 0:
+        steps = None
+        times = self.motion_times(prim, [radius_attribute]) if prototype < 0 else None
+        if times and radius > 0:
+            # A changing radius is a scale of the unit of the sphere's own space (row vectors: scale first).
+            scales = [Gf.Matrix4d().SetScale(float(radius_attribute.Get(t)) / radius) for t in times]
+            steps = np.stack([matrix(scale * self.world_at(prim, t)) for scale, t in zip(scales, times)])
+            steps = steps if motion.moving(steps) else None
+        if self.scene.add_sphere(name, (0.0, 0.0, 0.0), radius, material, transform, prototype,
+                                 motion_transforms=steps) >= 0:
             self.counts["spheres"] += 1
+            if steps is not None:
+                self.note_motion(prim, "transform")
 
     def add_triangles(self, prim, transform, prototype):
         """A mesh, or a tessellated cube / cylinder / cone / capsule / plane. A mesh's materialBind
@@ -189,20 +206,41 @@ class StageLoader:
         if pieces is None:
             return
         double_sided = bool(UsdGeom.Gprim(prim).GetDoubleSidedAttr().Get(self.time))
-        added = 0
+        deform_times, transform_steps = self.mesh_motion(prim, prototype)
+        # A deforming mesh: the same topology at each step's points, so its tessellation (refinement
+        # included) at each step time gives each piece's vertices there, in the same order.
+        step_pieces = None
+        if deform_times is not None:
+            quiet = lambda message: None  # noqa: E731  (warned once, at the render time, above)
+            step_pieces = [mesh_triangles(mesh, t, quiet, uv_names, self.refine_level, piece_of_face, len(subsets) + 1)
+                           for t in deform_times]
+        added, deformed = 0, False
         # The faces in no subset under the mesh's name and material, then each subset's faces under
         # its own path and material (as Hydra splits them).
         names = [(name, material)] + [(subset.path, subset.material) for subset in subsets]
-        for (piece_name, piece_material), piece in zip(names, pieces):
+        for index, ((piece_name, piece_material), piece) in enumerate(zip(names, pieces)):
             if piece is None:
                 continue
+            piece_points = None
+            if step_pieces is not None:
+                steps = [None if s is None or s[index] is None else s[index].positions for s in step_pieces]
+                if all(p is not None and p.shape == piece.positions.shape for p in steps):
+                    piece_points = np.ascontiguousarray(np.stack(steps), np.float32)
+                    deformed = True
+                else:
+                    warn("its tessellation changes during the shutter; rendered without deformation blur")
             mesh_id = self.scene.add_mesh(piece_name, piece.positions, piece.indices, piece.normals,
-                                          piece.uvs, piece_material, transform, double_sided, prototype)
+                                          piece.uvs, piece_material, transform, double_sided, prototype,
+                                          motion_points=piece_points, motion_transforms=transform_steps)
             if mesh_id >= 0:
                 added += 1
                 self.counts["triangles"] += len(piece.indices)
         if added:
             self.counts["meshes"] += 1  # a mesh prim, however many pieces its subsets made
+            if transform_steps is not None:
+                self.note_motion(prim, "transform")
+            if deformed:
+                self.note_motion(prim, "deformation")
 
     def material_subsets(self, mesh):
         """The mesh's materialBind face subsets (authored order) and which of them owns each face
@@ -279,13 +317,16 @@ class StageLoader:
                 self.warn(prim.GetPath(), holds_lights_warning)
         return prototype
 
-    def add_instance(self, prototype, transform, name):
-        if self.scene.add_instance(prototype, matrix(transform), name) >= 0:
+    def add_instance(self, prototype, transform, name, steps=None, prim=None):
+        if self.scene.add_instance(prototype, matrix(transform), name, motion_transforms=steps) >= 0:
             self.counts["instances"] += 1
+            if steps is not None and prim is not None:
+                self.note_motion(prim, "transform")
 
     def add_instanceable(self, prim):
         """An instanceable prim: its prototype's geometry once, then one instance of it here."""
-        self.add_instance(self.prototype_for(prim.GetPrototype()), self.world(prim), str(prim.GetPath()))
+        self.add_instance(self.prototype_for(prim.GetPrototype()), self.world(prim), str(prim.GetPath()),
+                          self.transform_steps(prim, self.motion_times(prim)), prim)
         self.add_lights_inside(prim)
 
     def add_lights_inside(self, instance):
@@ -312,6 +353,7 @@ class StageLoader:
             return
         shown = instancer.ComputeMaskAtTime(self.time) or [True] * len(proto_indices)  # invisible/inactive ids
         instancer_world = self.world(prim)
+        step_local, step_worlds = self.instancer_motion(instancer, len(local))
         for i, (index, transform) in enumerate(zip(proto_indices, local)):
             if not shown[i]:
                 continue
@@ -321,7 +363,11 @@ class StageLoader:
             root = roots[index]
             root_local, _ = self.xforms.GetLocalTransformation(root)
             prototype = self.prototype_for(root, POINT_INSTANCER_LIGHTS)
-            self.add_instance(prototype, root_local * transform * instancer_world, f"{path}[{i}]")
+            steps = None
+            if step_local is not None:
+                steps = np.stack([matrix(root_local * step[i] * world) for step, world in zip(step_local, step_worlds)])
+                steps = steps if motion.moving(steps) else None
+            self.add_instance(prototype, root_local * transform * instancer_world, f"{path}[{i}]", steps, prim)
 
     # -- lights ----------------------------------------------------------------------------------
     def add_light(self, prim, world):
@@ -382,6 +428,9 @@ def camera_desc(prim, world, time):
     desc.focus_distance = float(camera.GetFocusDistanceAttr().Get(time))
     near, far = camera.GetClippingRangeAttr().Get(time)
     desc.clipping_range = (float(near), float(far))
+    # As authored: the renderer warns, naming the camera, when close < open.
+    desc.shutter_open = float(camera.GetShutterOpenAttr().Get(time))
+    desc.shutter_close = float(camera.GetShutterCloseAttr().Get(time))
     desc.transform = matrix(world)
     return desc
 
@@ -422,8 +471,11 @@ def as_time_code(time):
 def camera_at(stage, camera_path, time):
     """The CameraDesc of the camera prim `camera_path` at `time` (a frame of a camera move)."""
     prim = stage.GetPrimAtPath(camera_path)
-    return camera_desc(prim, UsdGeom.XformCache(as_time_code(time)).GetLocalToWorldTransform(prim),
-                       as_time_code(time))
+    time = as_time_code(time)
+    desc = camera_desc(prim, UsdGeom.XformCache(time).GetLocalToWorldTransform(prim), time)
+    shutter = motion.camera_shutter(prim, render_settings(stage), time, motion.frame_time(stage, time))
+    desc.motion_transforms = motion.camera_transforms(prim, shutter)
+    return desc
 
 
 def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missing=False,
@@ -442,19 +494,25 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
     stage = stage if stage is not None else open_stage(file, allow_missing)
     scene = scene if scene is not None else descriptors.new_scene()
     time = as_time_code(time)
-    loader = StageLoader(stage, scene, time, file, refine_level)
+    settings = render_settings(stage)
+    prim = camera_prim(stage, settings, camera, file)
+    shutter = None
+    if prim is not None:
+        try:
+            shutter = motion.camera_shutter(prim, settings, time, motion.frame_time(stage, time))
+        except UNREADABLE:  # reported with the rest of the camera below
+            pass
+    loader = StageLoader(stage, scene, time, file, refine_level, shutter)
     for message in missing_layers(stage):
         loader.warn("/", f"not found, rendered without it: {message}")
     loader.load()
 
-    settings = render_settings(stage)
     try:
         resolution = settings_resolution(settings, time)
     except UNREADABLE as error:
         loader.warn(str(settings.GetPath()), f"resolution could not be read ({error_text(error)}); "
                                              f"using {DEFAULT_RESOLUTION}")
         resolution = DEFAULT_RESOLUTION
-    prim = camera_prim(stage, settings, camera, file)
     desc = None
     if prim is not None:
         try:
@@ -463,6 +521,9 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
             loader.warn(str(prim.GetPath()), f"camera could not be read ({error_text(error)}); using one that "
                                              f"frames the whole scene")
     if desc is not None:
+        desc.motion_transforms = motion.camera_transforms(prim, shutter)
+        if desc.motion_transforms is not None:
+            loader.note_motion(prim, "transform")
         scene.set_camera(desc)
         camera_path = str(prim.GetPath())
     else:
@@ -473,4 +534,4 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
 
     counts = dict(loader.counts, materials=loader.materials.added)
     return LoadedScene(scene, resolution, camera_path, loader.warnings, counts, dict(loader.light_kinds),
-                       dict(loader.materials.textures), sum(1 for _ in stage.TraverseAll()))
+                       dict(loader.materials.textures), sum(1 for _ in stage.TraverseAll()), loader.moving, shutter)

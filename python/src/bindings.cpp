@@ -59,6 +59,23 @@ nb::ndarray<nb::numpy, int32_t> toNumpyInt(std::vector<int32_t> v, size_t h, siz
 #define RW_COLOR(cls, pyname, field) \
     def_prop_rw(pyname, [](const cls& o) { return fromColor(o.field); }, [](cls& o, Float3 v) { o.field = toColor(v); })
 
+using StepPoints = nb::ndarray<const float, nb::shape<-1, -1, 3>, nb::c_contig, nb::device::cpu>;
+using StepMatrices = nb::ndarray<const double, nb::shape<-1, 4, 4>, nb::c_contig, nb::device::cpu>;
+
+// (steps, N, 3) points and (steps, 4, 4) transforms over the shutter (motion.h).
+MotionSteps toMotion(const std::optional<StepPoints>& points, const std::optional<StepMatrices>& transforms) {
+    MotionSteps motion;
+    if (points)
+        for (size_t step = 0; step < points->shape(0); ++step) {
+            const Vec3* first = reinterpret_cast<const Vec3*>(points->data()) + step * points->shape(1);
+            motion.points.emplace_back(first, first + points->shape(1));
+        }
+    if (transforms)
+        for (size_t step = 0; step < transforms->shape(0); ++step)
+            motion.transforms.push_back(Mat4::fromRowMajor(transforms->data() + step * 16));
+    return motion;
+}
+
 void bindDescriptors(nb::module_& m) {
     nb::class_<TextureDesc>(m, "TextureDesc")
         .def(nb::init<>())
@@ -132,6 +149,20 @@ void bindDescriptors(nb::module_& m) {
         .def_rw("vertical_aperture_offset", &CameraDesc::verticalApertureOffset)
         .def_rw("f_stop", &CameraDesc::fStop)
         .def_rw("focus_distance", &CameraDesc::focusDistance)
+        .def_rw("shutter_open", &CameraDesc::shutterOpen)
+        .def_rw("shutter_close", &CameraDesc::shutterClose)
+        .def_prop_rw(
+            "motion_transforms",
+            [](const CameraDesc& c) -> nb::object {
+                if (c.motionTransforms.empty()) return nb::none();
+                auto* data = new std::vector<double>;
+                for (const Mat4& m : c.motionTransforms) data->insert(data->end(), &m.m[0][0], &m.m[0][0] + 16);
+                nb::capsule owner(data, [](void* p) noexcept { delete static_cast<std::vector<double>*>(p); });
+                size_t shape[3] = {c.motionTransforms.size(), 4, 4};
+                return nb::cast(nb::ndarray<nb::numpy, double>(data->data(), 3, shape, owner), nb::rv_policy::move);
+            },
+            [](CameraDesc& c, std::optional<StepMatrices> steps) { c.motionTransforms = toMotion(std::nullopt, steps).transforms; },
+            nb::arg("value").none())
         .def_prop_rw("clipping_range", [](const CameraDesc& c) { return Float2{c.clipNear, c.clipFar}; },
                      [](CameraDesc& c, Float2 v) { std::tie(c.clipNear, c.clipFar) = v; })
         .def_prop_rw("transform", [](const CameraDesc& c) { return nb::cast(fromMat4(c.transform), nb::rv_policy::move); },
@@ -162,7 +193,8 @@ void bindScene(nb::module_& m) {
         .def(
             "add_mesh",
             [](Scene& s, const std::string& name, Points positions, Indices indices, std::optional<Points> normals,
-               std::optional<Uvs> uvs, int material, std::optional<Matrix> transform, bool doubleSided, int prototype) {
+               std::optional<Uvs> uvs, int material, std::optional<Matrix> transform, bool doubleSided, int prototype,
+               std::optional<StepPoints> motionPoints, std::optional<StepMatrices> motionTransforms) {
                 requireBuilding(s);
                 std::vector<Vec3> p = toVec3s(positions);
                 std::vector<uint32_t> idx(indices.data(), indices.data() + indices.shape(0) * 3);
@@ -172,28 +204,33 @@ void bindScene(nb::module_& m) {
                     std::memcpy(st.data(), uvs->data(), st.size() * sizeof(Vec2));
                 }
                 Mat4 xf = transform ? toMat4(*transform) : Mat4();
+                MotionSteps motion = toMotion(motionPoints, motionTransforms);
                 nb::gil_scoped_release release;
                 return s.addMesh(name, std::move(p), std::move(idx), toVec3s(normals), std::move(st), material,
-                                 transform ? &xf : nullptr, doubleSided, prototype);
+                                 transform ? &xf : nullptr, doubleSided, prototype, motion);
             },
             "name"_a, "positions"_a, "indices"_a, "normals"_a = nb::none(), "uvs"_a = nb::none(), "material"_a = -1,
-            "transform"_a = nb::none(), "double_sided"_a = true, "prototype"_a = -1)
+            "transform"_a = nb::none(), "double_sided"_a = true, "prototype"_a = -1, "motion_points"_a = nb::none(),
+            "motion_transforms"_a = nb::none())
         .def(
             "add_sphere",
             [](Scene& s, const std::string& name, Float3 center, float radius, int material,
-               std::optional<Matrix> transform, int prototype) {
+               std::optional<Matrix> transform, int prototype, std::optional<StepMatrices> motionTransforms) {
                 requireBuilding(s);
                 Mat4 xf = transform ? toMat4(*transform) : Mat4();
-                return s.addSphere(name, toColor(center), radius, material, transform ? &xf : nullptr, prototype);
+                return s.addSphere(name, toColor(center), radius, material, transform ? &xf : nullptr, prototype,
+                                   toMotion(std::nullopt, motionTransforms));
             },
-            "name"_a, "center"_a, "radius"_a, "material"_a = -1, "transform"_a = nb::none(), "prototype"_a = -1)
+            "name"_a, "center"_a, "radius"_a, "material"_a = -1, "transform"_a = nb::none(), "prototype"_a = -1,
+            "motion_transforms"_a = nb::none())
         .def(
             "add_instance",
-            [](Scene& s, int prototype, Matrix transform, const std::string& name) {
+            [](Scene& s, int prototype, Matrix transform, const std::string& name,
+               std::optional<StepMatrices> motionTransforms) {
                 requireBuilding(s);
-                return s.addInstance(prototype, toMat4(transform), name);
+                return s.addInstance(prototype, toMat4(transform), name, toMotion(std::nullopt, motionTransforms));
             },
-            "prototype"_a, "transform"_a, "name"_a = "")
+            "prototype"_a, "transform"_a, "name"_a = "", "motion_transforms"_a = nb::none())
         .def("add_light", [](Scene& s, const LightDesc& d) { requireBuilding(s); return s.addLight(d); })
         .def("set_camera", [](Scene& s, const CameraDesc& d) { requireBuilding(s); s.setCamera(d); })
         .def("commit", [](Scene& s) { nb::gil_scoped_release release; s.commit(); })
@@ -210,6 +247,8 @@ void bindScene(nb::module_& m) {
                                             {"texture_bytes", double(st.textureBytes)},
                                             {"textures_read", double(st.texturesRead)}, {"portals", double(st.portals)},
                                             {"build_seconds", st.buildSeconds},
+                                            {"moving_shapes", double(st.movingShapes)},
+                                            {"moving_instances", double(st.movingInstances)},
                                             {"committed", s.committed() ? 1.0 : 0.0},
                                             {"specular_surfaces", s.hasSpecularSurfaces() ? 1.0 : 0.0}};
             return d;

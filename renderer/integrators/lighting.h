@@ -40,6 +40,7 @@ inline Ray spawnRay(const SurfaceInteraction& si, const Vec3& d) {
     r.d = d;
     r.tMin = 0;
     r.tMax = kInf;
+    r.time = si.time;  // a path (and each of its shadow rays) sees the scene at one instant
     return r;
 }
 

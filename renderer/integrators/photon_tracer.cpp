@@ -22,6 +22,7 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
     Color beta = emission.power / float(double(pmf) * density * emitted);
     if (!isFinite(beta) || isBlack(beta) || !isFinite(emission.ray.o) || !isFinite(emission.ray.d)) return light;
     Ray ray = emission.ray;
+    ray.time = sampler.shutterTime();  // photons leave throughout the shutter, as camera rays arrive
     PhotonPath path = PhotonPath::Direct;
     for (int bounces = 0;; ++bounces) {
         // Lights are not in the BVH: a photon that meets one's surface ends there, as a path does.

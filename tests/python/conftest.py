@@ -83,18 +83,20 @@ class RecordingScene:
         return self._record(self.prototypes, name)
 
     def add_mesh(self, name, positions, indices, normals=None, uvs=None, material=-1, transform=None,
-                 double_sided=True, prototype=-1):
+                 double_sided=True, prototype=-1, motion_points=None, motion_transforms=None):
         return self._record(self.meshes, SimpleNamespace(
             name=name, positions=positions, indices=indices, normals=normals, uvs=uvs, material=material,
-            transform=transform, double_sided=double_sided, prototype=prototype))
+            transform=transform, double_sided=double_sided, prototype=prototype, motion_points=motion_points,
+            motion_transforms=motion_transforms))
 
-    def add_sphere(self, name, center, radius, material=-1, transform=None, prototype=-1):
+    def add_sphere(self, name, center, radius, material=-1, transform=None, prototype=-1, motion_transforms=None):
         return self._record(self.spheres, SimpleNamespace(
             name=name, center=tuple(center), radius=radius, material=material, transform=transform,
-            prototype=prototype))
+            prototype=prototype, motion_transforms=motion_transforms))
 
-    def add_instance(self, prototype, transform, name=""):
-        return self._record(self.instances, SimpleNamespace(prototype=prototype, transform=transform, name=name))
+    def add_instance(self, prototype, transform, name="", motion_transforms=None):
+        return self._record(self.instances, SimpleNamespace(prototype=prototype, transform=transform, name=name,
+                                                            motion_transforms=motion_transforms))
 
     def add_light(self, light):
         return self._record(self.lights, light)
