@@ -31,7 +31,7 @@ bool ReadDisplayColor(VtValue const& value, GfVec3f* color) {
 }
 }  // namespace
 
-bool HdGiGprimState::Sync(HdRprim& prim, HdSceneDelegate* delegate, HdDirtyBits dirtyBits) {
+bool HdGiGprimState::Sync(HdRprim& prim, HdSceneDelegate* delegate, HdGiRenderParam const& param, HdDirtyBits dirtyBits) {
     SdfPath const& id = prim.GetId();
     bool changed = false;
     if (dirtyBits & HdChangeTracker::DirtyMaterialId) {
@@ -40,9 +40,10 @@ bool HdGiGprimState::Sync(HdRprim& prim, HdSceneDelegate* delegate, HdDirtyBits 
     }
     if (HdChangeTracker::IsTransformDirty(dirtyBits, id)) {
         transform = delegate->GetTransform(id);
-        // The transform over the camera's shutter: its boundaries and the authored samples between.
+        // The transform over the cameras' shutters: the interval's ends and the authored samples between.
         HdTimeSampleArray<GfMatrix4d, 4> samples;
-        delegate->SampleTransform(id, &samples);
+        GfVec2f interval = param.SamplingInterval();
+        delegate->SampleTransform(id, interval[0], interval[1], &samples);
         transformTimes.assign(samples.times.begin(), samples.times.begin() + samples.count);
         transformSamples.assign(samples.values.begin(), samples.values.begin() + samples.count);
         changed = true;

@@ -25,7 +25,7 @@ struct HdGiGprimState {
     std::vector<GfMatrix4d> instances;
 
     // Updates what `dirtyBits` marks; returns true if anything the renderer sees changed.
-    bool Sync(HdRprim& prim, HdSceneDelegate* delegate, HdDirtyBits dirtyBits);
+    bool Sync(HdRprim& prim, HdSceneDelegate* delegate, HdGiRenderParam const& param, HdDirtyBits dirtyBits);
     // Fills the fields of `g` this state owns and stores it for the prim (nothing when hidden),
     // stopping the render first.
     void Publish(HdRprim const& prim, HdGiRenderParam* param, std::shared_ptr<HdGiGeometry> g) const;

@@ -35,13 +35,14 @@ HdGiPrimvar FindPrimvar(HdRprim const& prim, HdSceneDelegate* delegate, TfToken 
     return HdGiPrimvar();
 }
 
-// The mesh's points over the camera's shutter (SamplePrimvar: the shutter's boundaries and the
+// The mesh's points over the cameras' shutters (SamplePrimvar: the interval's ends and the
 // authored samples between), each sample triangulated as the mesh is, so that its vertices match
 // the pieces'. A sample whose triangulation differs (the point count changed) drops the motion.
 void AddDeformation(HdSceneDelegate* delegate, SdfPath const& id, HdGiMeshInput const& input, HdGiRenderParam* param,
                     HdGiMeshPieces* pieces) {
     HdTimeSampleArray<VtValue, 4> samples;
-    delegate->SamplePrimvar(id, HdTokens->points, &samples);
+    GfVec2f interval = param->SamplingInterval();
+    delegate->SamplePrimvar(id, HdTokens->points, interval[0], interval[1], &samples);
     if (samples.count < 2) return;
     std::vector<HdGiMeshPieces> steps;
     for (size_t i = 0; i < samples.count; ++i) {
@@ -73,7 +74,7 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
     bool wasVisible = IsVisible();
     if (HdChangeTracker::IsVisibilityDirty(bits, id)) _UpdateVisibility(delegate, dirtyBits);
     _UpdateInstancer(delegate, dirtyBits);
-    bool changed = _state.Sync(*this, delegate, bits) || wasVisible != IsVisible();
+    bool changed = _state.Sync(*this, delegate, *param, bits) || wasVisible != IsVisible();
 
     bool geometryDirty = HdChangeTracker::IsTopologyDirty(bits, id) || HdChangeTracker::IsPrimvarDirty(bits, id, HdTokens->points) ||
                          HdChangeTracker::IsPrimvarDirty(bits, id, HdTokens->normals) ||
@@ -82,6 +83,10 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
     if (geometryDirty) {
         HdGiMeshInput input;
         input.topology = GetMeshTopology(delegate);
+        // The topology comes without its creases, corners and boundary rules: as in HdStMesh,
+        // they are asked for apart.
+        if (input.topology.GetScheme() != PxOsdOpenSubdivTokens->none)
+            input.topology.SetSubdivTags(delegate->GetSubdivTags(id));
         input.points = delegate->Get(id, HdTokens->points);
         input.normals = FindPrimvar(*this, delegate, HdTokens->normals);
         input.st = FindPrimvar(*this, delegate, TfToken("st"));

@@ -1,5 +1,6 @@
 #include "renderDelegate.h"
 
+#include "camera.h"
 #include "instancer.h"
 #include "light.h"
 #include "material.h"
@@ -130,7 +131,7 @@ HdRprim* HdGiRenderDelegate::CreateRprim(TfToken const& typeId, SdfPath const& r
 void HdGiRenderDelegate::DestroyRprim(HdRprim* rprim) { delete rprim; }
 
 HdSprim* HdGiRenderDelegate::CreateSprim(TfToken const& typeId, SdfPath const& sprimId) {
-    if (typeId == HdPrimTypeTokens->camera) return new HdCamera(sprimId);
+    if (typeId == HdPrimTypeTokens->camera) return new HdGiCamera(sprimId);
     if (typeId == HdPrimTypeTokens->material) return new HdGiMaterial(sprimId);
     if (IsLight(typeId)) return new HdGiLight(sprimId, typeId);
     if (typeId == HdPrimTypeTokens->extComputation) return new HdExtComputation(sprimId);

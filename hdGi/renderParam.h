@@ -1,11 +1,14 @@
 // Shared state the prims reach through Sync: the scene store and the render thread, which
 // must stop before the scene changes (the render pass restarts it on the new version).
 #pragma once
+#include <algorithm>
 #include <atomic>
+#include <map>
 #include <mutex>
 #include <set>
 #include <string>
 
+#include "pxr/base/gf/vec2f.h"
 #include "pxr/base/tf/diagnostic.h"
 #include "pxr/imaging/hd/renderDelegate.h"
 #include "pxr/imaging/hd/renderThread.h"
@@ -40,13 +43,43 @@ public:
             TF_WARN("hdGi: %s: %s", id.GetText(), message.c_str());
     }
 
+    // The interval the gprims sample their motion over (times relative to the frame): the union of
+    // the cameras' shutters, so that whichever camera renders finds its own inside. NoteShutter
+    // returns whether the union changed (then every rprim's motion must be sampled again).
+    bool NoteShutter(SdfPath const& camera, float open, float close) {
+        std::lock_guard<std::mutex> lock(_shutterMutex);
+        _shutters[camera] = GfVec2f(std::min(open, close), std::max(open, close));
+        return _UpdateSamplingInterval();
+    }
+    void ForgetShutter(SdfPath const& camera) {
+        std::lock_guard<std::mutex> lock(_shutterMutex);
+        _shutters.erase(camera);
+        _UpdateSamplingInterval();
+    }
+    GfVec2f SamplingInterval() const {
+        std::lock_guard<std::mutex> lock(_shutterMutex);
+        return _samplingInterval;
+    }
+
 private:
+    bool _UpdateSamplingInterval() {
+        GfVec2f interval(0.0f);
+        for (auto const& [camera, shutter] : _shutters)
+            interval = GfVec2f(std::min(interval[0], shutter[0]), std::max(interval[1], shutter[1]));
+        bool changed = interval != _samplingInterval;
+        _samplingInterval = interval;
+        return changed;
+    }
+
     HdRenderThread* _renderThread;
     std::atomic<bool>* _cancel;
     std::atomic<int> _sceneVersion{1};
     HdGiSceneStore _store;
     std::mutex _warnedMutex;
     std::set<std::string> _warned;
+    mutable std::mutex _shutterMutex;
+    std::map<SdfPath, GfVec2f> _shutters;
+    GfVec2f _samplingInterval{0.0f};  // always holds the frame (0)
 };
 
 PXR_NAMESPACE_CLOSE_SCOPE

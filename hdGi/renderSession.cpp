@@ -49,11 +49,14 @@ void HdGiRenderSession::Run() {
     if (job.aovs.empty() || job.dataWindow.IsEmpty()) return;
 
     int version = _param->SceneVersion();
-    if (!_scene || version != _sceneVersion || job.domeLightCameraVisibility != _sceneDomeVisible) {
+    GfVec2f const shutter(job.camera.shutterOpen, job.camera.shutterClose);
+    if (!_scene || version != _sceneVersion || job.domeLightCameraVisibility != _sceneDomeVisible ||
+        shutter != _sceneShutter) {
         auto buildStart = Clock::now();
-        _scene = _param->Store().Build(&_ids, job.domeLightCameraVisibility);
+        _scene = _param->Store().Build(&_ids, job.domeLightCameraVisibility, shutter);
         _sceneVersion = version;
         _sceneDomeVisible = job.domeLightCameraVisibility;
+        _sceneShutter = shutter;
         stats.sceneBuildSeconds = SecondsSince(buildStart);
     }
     stats.textures = int(_scene->stats().textures);

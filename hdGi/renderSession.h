@@ -65,6 +65,7 @@ private:
     HdGiIdMap _ids;
     int _sceneVersion = -1;
     bool _sceneDomeVisible = true;
+    GfVec2f _sceneShutter{0.0f};
     std::atomic<bool> _converged{false};
     mutable std::mutex _statsMutex;
     HdGiSessionStats _stats;

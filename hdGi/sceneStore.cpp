@@ -75,16 +75,22 @@ private:
     std::map<std::string, int> _ids;
 };
 
-// The prim's motion over the shutter as the renderer's even steps (renderer/motion.h): its
-// transform's (top-level prims only: instances move by their instancer) and `mesh`'s deformation.
-// Hydra's samples include the shutter's boundaries, so the first step is at shutter open and the
-// last at close, as the renderer's ray times 0 and 1.
-gi::MotionSteps MotionOf(HdGiGeometry const& g, HdGiTriangleMesh const* mesh, int prototype) {
+// The prim's motion over the rendering camera's shutter [open, close] as the renderer's even steps
+// (renderer/motion.h): its transform's (top-level prims only: instances move by their instancer)
+// and `mesh`'s deformation. Hydra's samples span every camera's shutter (HdGiRenderParam's
+// sampling interval), so the steps are this shutter's ends and the samples between, the first at
+// shutter open and the last at close, as the renderer's ray times 0 and 1.
+gi::MotionSteps MotionOf(HdGiGeometry const& g, HdGiTriangleMesh const* mesh, int prototype, GfVec2f shutter) {
     bool moves = prototype < 0 && g.transformTimes.size() > 1;
     bool deforms = mesh && mesh->pointTimes.size() > 1;
-    std::vector<float> times;
-    if (moves) times = g.transformTimes;
-    if (deforms) times.insert(times.end(), mesh->pointTimes.begin(), mesh->pointTimes.end());
+    if (!(moves || deforms) || !(shutter[1] > shutter[0])) return {};
+    std::vector<float> times{shutter[0], shutter[1]};
+    auto addInside = [&](std::vector<float> const& sampleTimes) {
+        for (float t : sampleTimes)
+            if (t > shutter[0] && t < shutter[1]) times.push_back(t);
+    };
+    if (moves) addInside(g.transformTimes);
+    if (deforms) addInside(mesh->pointTimes);
     gi::MotionSteps motion;
     for (float t : gi::evenStepTimes(times)) {
         if (moves)
@@ -104,11 +110,11 @@ gi::MotionSteps MotionOf(HdGiGeometry const& g, HdGiTriangleMesh const* mesh, in
 
 // Adds the prim's shapes (a sphere, or one mesh per material piece); returns their ids.
 std::vector<int> AddShapes(gi::Scene& scene, HdGiGeometry const& g, MaterialBinder& binder, gi::Mat4 const& transform,
-                           int prototype) {
+                           int prototype, GfVec2f shutter) {
     std::vector<int> shapes;
     if (g.isSphere) {
         shapes.push_back(scene.addSphere(g.name, gi::Vec3(0.0f), g.radius, binder.Bind(g, SdfPath()), &transform,
-                                         prototype, MotionOf(g, nullptr, prototype)));
+                                         prototype, MotionOf(g, nullptr, prototype, shutter)));
         return shapes;
     }
     for (size_t i = 0; i < g.pieces.size(); ++i) {
@@ -117,7 +123,7 @@ std::vector<int> AddShapes(gi::Scene& scene, HdGiGeometry const& g, MaterialBind
         SdfPath material = i < g.pieceMaterials.size() ? g.pieceMaterials[i] : SdfPath();
         std::string name = g.pieces.size() > 1 && !material.IsEmpty() ? g.name + " (" + material.GetString() + ")" : g.name;
         shapes.push_back(scene.addMesh(name, m.points, m.indices, m.normals, m.uvs, binder.Bind(g, material), &transform,
-                                       g.doubleSided, prototype, MotionOf(g, &m, prototype)));
+                                       g.doubleSided, prototype, MotionOf(g, &m, prototype, shutter)));
     }
     return shapes;
 }
@@ -138,7 +144,7 @@ void HdGiSceneStore::ReportWarnings(gi::Scene const& scene) const {
     }
 }
 
-std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightCameraVisibility) const {
+std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightCameraVisibility, GfVec2f shutter) const {
     // Snapshot under the lock (records are immutable once stored), build outside it.
     std::vector<std::shared_ptr<const HdGiGeometry>> geometry;
     std::vector<std::shared_ptr<const gi::LightDesc>> lights;
@@ -155,7 +161,7 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
     HdGiIdMap map;
     for (auto const& g : geometry) {
         if (!g->instanced) {
-            for (int shape : AddShapes(*scene, *g, binder, HdGiToMat4(g->transform), -1))
+            for (int shape : AddShapes(*scene, *g, binder, HdGiToMat4(g->transform), -1, shutter))
                 Record(map.shapePrimId, shape, g->primId);
             continue;
         }
@@ -163,7 +169,7 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         // Instances share one Embree prototype: the rprim's own transform inside it, the
         // instancer's on top (Hydra's order: world = transform * instance).
         int prototype = scene->addPrototype(g->name);
-        std::vector<int> shapes = AddShapes(*scene, *g, binder, HdGiToMat4(g->transform), prototype);
+        std::vector<int> shapes = AddShapes(*scene, *g, binder, HdGiToMat4(g->transform), prototype, shutter);
         for (int shape : shapes) Record(map.shapePrimId, shape, g->primId);
         for (size_t i = 0; i < g->instanceTransforms.size(); ++i) {
             int instance = scene->addInstance(prototype, HdGiToMat4(g->instanceTransforms[i]),

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "pxr/base/gf/matrix4d.h"
+#include "pxr/base/gf/vec2f.h"
 #include "pxr/base/gf/vec3f.h"
 #include "pxr/pxr.h"
 #include "pxr/usd/sdf/path.h"
@@ -65,8 +66,10 @@ public:
     void Remove(SdfPath const& id);
 
     // A committed scene of everything visible now, with the id maps for the film's AOVs.
-    // `domeLightCameraVisibility` false hides dome lights from camera rays (a render setting).
-    std::unique_ptr<gi::Scene> Build(HdGiIdMap* ids, bool domeLightCameraVisibility = true) const;
+    // `domeLightCameraVisibility` false hides dome lights from camera rays (a render setting);
+    // `shutter`: the rendering camera's, relative to the frame (motion is sampled over it).
+    std::unique_ptr<gi::Scene> Build(HdGiIdMap* ids, bool domeLightCameraVisibility = true,
+                                     GfVec2f shutter = GfVec2f(0.0f)) const;
 
     size_t GeometryCount() const;
 

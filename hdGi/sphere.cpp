@@ -25,7 +25,7 @@ void HdGiSphere::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdD
     bool wasVisible = IsVisible();
     if (HdChangeTracker::IsVisibilityDirty(bits, id)) _UpdateVisibility(delegate, dirtyBits);
     _UpdateInstancer(delegate, dirtyBits);
-    bool changed = _state.Sync(*this, delegate, bits) || wasVisible != IsVisible();
+    bool changed = _state.Sync(*this, delegate, *param, bits) || wasVisible != IsVisible();
     if (HdChangeTracker::IsAnyPrimvarDirty(bits, id)) {
         VtValue radius = delegate->Get(id, HdSphereSchemaTokens->radius);
         _radius = radius.IsHolding<double>() ? float(radius.UncheckedGet<double>())

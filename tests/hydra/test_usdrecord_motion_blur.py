@@ -1,7 +1,8 @@
 """usdrecord through hdGi blurs what moves during the camera's shutter (SampleTransform,
 SamplePrimvar of points, the camera's shutter) to the width `gi render` reaches: the scenes,
-measure and tolerance of tests/python/test_motion_blur.py. Written while OpenUSD was not built on
-this machine: it has not run yet."""
+measure and tolerance of tests/python/test_motion_blur.py.
+usdrecord hides dome lights from the camera unless told (--enableDomeLightVisibility); the
+measure needs the lit background."""
 import sys
 
 import pytest
@@ -16,7 +17,7 @@ from test_motion_blur import (FRAME, RESOLUTION, WIDTH_TOLERANCE, analytic_varia
 @pytest.mark.parametrize("kind", ["sphere", "quad", "deforming quad"])
 def test_usdrecord_blurs_a_moving_object_to_the_analytic_width(tmp_path, kind):
     scene = motion_stage(tmp_path / "moving.usda", kind)
-    result = run_openusd(["usdrecord", "--disableGpu", "--renderer", "Gi", "--disableCameraLight",
+    result = run_openusd(["usdrecord", "--disableGpu", "--renderer", "Gi", "--disableCameraLight", "--enableDomeLightVisibility",
                           "--colorCorrectionMode", "disabled", "--imageWidth", str(RESOLUTION[0]),
                           "--camera", "/Camera", "--frames", str(FRAME), str(scene), str(tmp_path / "moving.####.exr")])
     assert not hdgi_errors(result.stdout + result.stderr), result.stderr
