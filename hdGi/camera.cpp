@@ -3,17 +3,49 @@
 #include "pxr/imaging/hd/changeTracker.h"
 #include "pxr/imaging/hd/renderIndex.h"
 #include "pxr/imaging/hd/sceneDelegate.h"
+#include "pxr/imaging/hd/timeSampleArray.h"
 #include "renderParam.h"
+#include "renderer/motion.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
 
 void HdGiCamera::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDirtyBits* dirtyBits) {
+    HdDirtyBits const bits = *dirtyBits;  // HdCamera::Sync clears them
     HdCamera::Sync(delegate, renderParam, dirtyBits);
     auto* param = static_cast<HdGiRenderParam*>(renderParam);
+    if (bits & (DirtyTransform | DirtyParams)) {
+        HdTimeSampleArray<GfMatrix4d, 4> samples;
+        float open = float(GetShutterOpen()), close = float(GetShutterClose());
+        _motionTimes.clear();
+        _motionSamples.clear();
+        if (close > open) {
+            delegate->SampleTransform(GetId(), open, close, &samples);
+            _motionTimes.assign(samples.times.begin(), samples.times.begin() + samples.count);
+            _motionSamples.assign(samples.values.begin(), samples.values.begin() + samples.count);
+        }
+    }
     // Cameras sync before rprims: a changed interval resamples every rprim's motion in this sync.
     if (param->NoteShutter(GetId(), float(GetShutterOpen()), float(GetShutterClose())))
         delegate->GetRenderIndex().GetChangeTracker().MarkAllRprimsDirty(HdChangeTracker::DirtyTransform |
                                                                          HdChangeTracker::DirtyPoints);
+}
+
+std::vector<GfMatrix4d> HdGiCamera::MotionSteps() const {
+    std::vector<GfMatrix4d> steps;
+    float open = float(GetShutterOpen()), close = float(GetShutterClose());
+    if (_motionTimes.size() < 2 || !(close > open)) return steps;
+    std::vector<float> times{open, close};
+    for (float t : _motionTimes)
+        if (t > open && t < close) times.push_back(t);
+    bool moves = false;
+    for (float t : gi::evenStepTimes(times)) {
+        steps.push_back(gi::sampleAt(_motionTimes, _motionSamples, t, [](GfMatrix4d const& a, GfMatrix4d const& b, float f) {
+            return a * double(1 - f) + b * double(f);
+        }));
+        moves = moves || steps.back() != steps.front();
+    }
+    if (!moves) steps.clear();
+    return steps;
 }
 
 void HdGiCamera::Finalize(HdRenderParam* renderParam) {

@@ -59,7 +59,8 @@ bool HdGiGprimState::Sync(HdRprim& prim, HdSceneDelegate* delegate, HdGiRenderPa
     }
     if (HdChangeTracker::IsInstancerDirty(dirtyBits, id) || HdChangeTracker::IsInstanceIndexDirty(dirtyBits, id) ||
         HdChangeTracker::IsTransformDirty(dirtyBits, id) || !prim.GetInstancerId().IsEmpty()) {
-        instanced = HdGiRprimInstances(delegate, prim.GetInstancerId(), id, &instances);
+        instanced = HdGiRprimInstances(delegate, prim.GetInstancerId(), id, param.SamplingInterval(), &instances,
+                                       &instanceTimes, &instanceSamples);
         changed = true;
     }
     return changed;
@@ -87,6 +88,8 @@ void HdGiGprimState::Publish(HdRprim const& prim, HdGiRenderParam* param, std::s
     g.displayColor = displayColor;
     g.instanced = instanced;
     g.instanceTransforms = instances;
+    g.instanceTimes = instanceTimes;
+    g.instanceSamples = instanceSamples;
     if (g.material.IsEmpty()) g.material = prim.GetMaterialId();
     g.primId = prim.GetPrimId();
     store.SetGeometry(prim.GetId(), std::move(geometry));

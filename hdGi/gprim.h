@@ -23,6 +23,8 @@ struct HdGiGprimState {
     GfVec3f displayColor{0.18f};
     bool instanced = false;
     std::vector<GfMatrix4d> instances;
+    std::vector<float> instanceTimes;  // the instances' motion samples (HdGiGeometry's)
+    std::vector<std::vector<GfMatrix4d>> instanceSamples;
 
     // Updates what `dirtyBits` marks; returns true if anything the renderer sees changed.
     bool Sync(HdRprim& prim, HdSceneDelegate* delegate, HdGiRenderParam const& param, HdDirtyBits dirtyBits);

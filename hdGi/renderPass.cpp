@@ -1,5 +1,6 @@
 #include "renderPass.h"
 
+#include "camera.h"
 #include "pxr/imaging/hd/camera.h"
 #include "pxr/imaging/hd/renderIndex.h"
 #include "pxr/imaging/hd/renderPassState.h"
@@ -43,6 +44,10 @@ gi::CameraDesc CameraOf(HdCamera const* camera, GfMatrix4d const& view, GfMatrix
         // Relative to the frame, as SampleTransform's and SamplePrimvar's times (motion blur).
         desc.shutterOpen = float(camera->GetShutterOpen());
         desc.shutterClose = float(camera->GetShutterClose());
+        // A camera moving during the shutter, when it is the one the view comes from (usdview's
+        // free camera is not).
+        if (auto const* gi = dynamic_cast<HdGiCamera const*>(camera); gi && GfIsClose(camera->GetTransform(), view.GetInverse(), 1e-9))
+            for (GfMatrix4d const& m : gi->MotionSteps()) desc.motionTransforms.push_back(HdGiToMat4(m));
     }
     return desc;
 }

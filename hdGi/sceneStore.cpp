@@ -108,6 +108,22 @@ gi::MotionSteps MotionOf(HdGiGeometry const& g, HdGiTriangleMesh const* mesh, in
     return motion;
 }
 
+// Instance `i`'s motion over the rendering camera's shutter, as MotionOf's transform steps.
+gi::MotionSteps InstanceMotionOf(HdGiGeometry const& g, size_t i, GfVec2f shutter) {
+    if (g.instanceTimes.size() < 2 || !(shutter[1] > shutter[0])) return {};
+    std::vector<float> times{shutter[0], shutter[1]};
+    for (float t : g.instanceTimes)
+        if (t > shutter[0] && t < shutter[1]) times.push_back(t);
+    std::vector<GfMatrix4d> path;
+    for (std::vector<GfMatrix4d> const& sample : g.instanceSamples) path.push_back(i < sample.size() ? sample[i] : GfMatrix4d(1.0));
+    gi::MotionSteps motion;
+    for (float t : gi::evenStepTimes(times))
+        motion.transforms.push_back(HdGiToMat4(gi::sampleAt(
+            g.instanceTimes, path, t,
+            [](GfMatrix4d const& a, GfMatrix4d const& b, float f) { return a * double(1 - f) + b * double(f); })));
+    return motion;
+}
+
 // Adds the prim's shapes (a sphere, or one mesh per material piece); returns their ids.
 std::vector<int> AddShapes(gi::Scene& scene, HdGiGeometry const& g, MaterialBinder& binder, gi::Mat4 const& transform,
                            int prototype, GfVec2f shutter) {
@@ -173,7 +189,7 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         for (int shape : shapes) Record(map.shapePrimId, shape, g->primId);
         for (size_t i = 0; i < g->instanceTransforms.size(); ++i) {
             int instance = scene->addInstance(prototype, HdGiToMat4(g->instanceTransforms[i]),
-                                              g->name + "[" + std::to_string(i) + "]");
+                                              g->name + "[" + std::to_string(i) + "]", InstanceMotionOf(*g, i, shutter));
             Record(map.instanceIndex, instance, int(i));
         }
     }

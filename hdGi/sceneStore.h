@@ -45,6 +45,9 @@ struct HdGiGeometry {
     // Instancer transforms (world = transform * instance). Empty and !instanced: one copy.
     bool instanced = false;
     std::vector<GfMatrix4d> instanceTransforms;
+    // Their motion: sample times as transformTimes', and per time one transform per instance.
+    std::vector<float> instanceTimes;
+    std::vector<std::vector<GfMatrix4d>> instanceSamples;
     SdfPath material;
     bool hasDisplayColor = false;
     GfVec3f displayColor{0.18f};

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds the hdGi plugin against an OpenUSD build with imaging and runs the Hydra tests
+# Builds the hdGi plugin against an OpenUSD build with imaging, installs it (cmake --install) and
+# runs the Hydra tests on the installed copy
 # (usdrecord, incremental edits, every integrator through the render settings).
 # Usage: scripts/test-hydra.sh [OPENUSD_PREFIX]   (default $GI_OPENUSD_ROOT, else /opt/openusd)
 set -euo pipefail
@@ -20,6 +21,9 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -Dpxr_DIR="$openusd" 
   cat "$build.configure.log"; exit 1; }
 grep "hdGi:" "$build.configure.log" || true
 cmake --build "$build" --target hdGi
+# The tests load the installed plugin (README's install step), not the build tree's.
+rm -rf "$build-install"
+cmake --install "$build" --prefix "$build-install" --component hdGi > /dev/null
 export GI_OPENUSD_ROOT=$openusd
-export GI_HYDRA_PLUGIN=$PWD/$build/hdGi-plugin/hdGi/resources
+export GI_HYDRA_PLUGIN=$PWD/$build-install/plugin/usd/hdGi/resources
 .venv/bin/python -m pytest -q tests/hydra
