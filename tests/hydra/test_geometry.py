@@ -3,7 +3,7 @@ renders them (the same image, up to noise), and a Catmull-Clark mesh is refined 
 to the host's complexity (usdrecord --complexity) and not refined at the lowest one."""
 import numpy as np
 
-from conftest import REPO, hdgi_errors, read_rgb, run_openusd
+from conftest import hdgi_errors, read_rgb, run_openusd
 from test_usdrecord import gi_render_scene
 
 SCENE = """#usda 1.0

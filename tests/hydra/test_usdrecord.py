@@ -1,7 +1,6 @@
 """usdrecord with --renderer Gi against `gi render` of the same scene, integrator, samples and
 seed; every integrator selected through the render settings."""
 import subprocess
-import sys
 import time
 
 import numpy as np

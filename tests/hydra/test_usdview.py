@@ -1,14 +1,13 @@
 """usdview as a host: testusdview drives a real usdview window (Xvfb + Mesa llvmpipe) with Gi
 selected and the scene camera, through tests/hydra/scripts/usdview_session.py."""
 import json
-import os
 import shutil
 import subprocess
 
 import numpy as np
 import pytest
 
-from conftest import CORNELL, OPENUSD, REPO, hdgi_errors, openusd_env, read_rgb
+from conftest import CORNELL, OPENUSD, REPO, hdgi_errors, openusd_env
 
 pytestmark = pytest.mark.skipif(not (OPENUSD / "bin/testusdview").exists() or not shutil.which("xvfb-run"),
                                 reason="no testusdview in the OpenUSD build or no xvfb-run")
