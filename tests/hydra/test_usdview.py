@@ -71,10 +71,14 @@ def test_picking_the_sphere_selects_it(session):
 
 def test_pause_and_stop_within_100_ms(session):
     _, results, _ = session
-    print(f"render thread's last tile after pause: {results['pause_latency'] * 1000:.0f} ms, "
-          f"after stop: {results['stop_latency'] * 1000:.0f} ms")
-    assert results["pause_latency"] < 0.1
-    assert results["stop_latency"] < 0.1
+    print(f"render thread's last tile after pause: {results['pause_latency'] * 1000:.0f} ms "
+          f"(last tile before it {results['pause_idle'] * 1000:.0f} ms earlier), after stop: "
+          f"{results['stop_latency'] * 1000:.0f} ms (before it {results['stop_idle'] * 1000:.0f} ms)")
+    # The thread was rendering when asked (a tile ended within 100 ms before the request; an idle
+    # thread would make any latency pass), and its last tile ended within 100 ms after.
+    for what in ("pause", "stop"):
+        assert 0 <= results[f"{what}_idle"] < 0.1, results
+        assert results[f"{what}_latency"] < 0.1, results
 
 
 def test_edits_show_without_reload(session):
@@ -93,13 +97,6 @@ def test_memory_does_not_grow_over_camera_restarts(session):
     memory = results["resident_mb"]
     print("resident MB after each restart:", " ".join(f"{m:.0f}" for m in memory))
     assert memory[-1] <= 1.05 * memory[1]
-
-
-def test_screenshot_for_readme(session):
-    out, _, _ = session
-    target = REPO / "out/usdview-cornell.png"  # README shows a copy of it: docs/usdview-cornell.png
-    target.parent.mkdir(exist_ok=True)
-    shutil.copyfile(out / "cornell.png", target)
 
 
 def block_means(image, block=8):
@@ -131,6 +128,11 @@ def test_converged_viewport_matches_gi_render(session, tmp_path):
     difference = np.abs(block_means(viewport) - block_means(reference)).mean()
     print(f"mean block difference {difference:.4f} (8-bit sRGB / 255)")
     assert difference < 0.02
+    # README shows a copy of this screenshot (docs/usdview-cornell.png): refreshed only when it
+    # has just been checked against `gi render`.
+    target = REPO / "out/usdview-cornell.png"
+    target.parent.mkdir(exist_ok=True)
+    shutil.copyfile(out / "cornell.png", target)
 
 
 def test_edited_viewport_matches_fresh_render_of_the_edited_scene(session, tmp_path):

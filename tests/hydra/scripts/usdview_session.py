@@ -97,12 +97,15 @@ def testUsdviewInputFunction(app):
     view.SetRendererSetting("convergedSamplesPerPixel", 100000)
     process(1.5)
     requested = time.monotonic()
+    # How long before the request the last tile ended: small when the render thread is busy.
+    results["pause_idle"] = requested - stats(app)["lastTileTime"]
     view.SetRendererPaused(True)
     process(0.6)
     results["pause_latency"] = stats(app)["lastTileTime"] - requested
     view.SetRendererPaused(False)
     process(1.0)
     requested = time.monotonic()
+    results["stop_idle"] = requested - stats(app)["lastTileTime"]
     view.SetRendererStopped(True)
     process(0.6)
     results["stop_latency"] = stats(app)["lastTileTime"] - requested
