@@ -42,9 +42,10 @@ HdGiSessionStats HdGiRenderSession::Stats() const {
 
 void HdGiRenderSession::Run() {
     auto start = Clock::now();
+    double const startSeconds = gi::steadySeconds();
     HdGiRenderJob job = _job;
     // The render ends by the time limit, the scene build included, as in `gi render`.
-    double const deadline = job.settings.timeLimit > 0 ? gi::steadySeconds() + job.settings.timeLimit : 0;
+    double const deadline = job.settings.timeLimit > 0 ? startSeconds + job.settings.timeLimit : 0;
     HdGiSessionStats stats;
     if (job.aovs.empty() || job.dataWindow.IsEmpty()) return;
 
@@ -77,23 +78,23 @@ void HdGiRenderSession::Run() {
         std::lock_guard<std::mutex> lock(_statsMutex);
         _active = renderer.get();
     }
-    int target = std::max(1, settings.spp), taken = 0;
-    bool converged = false;
-    while (!_thread->IsStopRequested()) {
-        if (_thread->IsPauseRequested()) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(5));
-            continue;
+    int const target = std::max(1, settings.spp);
+    bool converged = false, reportedChoice = false;
+    // Renderer::render's pass loop, as `gi render`'s; after each pass the image goes to the AOVs.
+    // A pass cut by a pause is waited on here and rendered again on resume, so the image is the
+    // uninterrupted one (render.h).
+    auto afterPass = [&](gi::PassEnd end) {
+        if (end == gi::PassEnd::Cancelled) {
+            while (_thread->IsPauseRequested() && !_thread->IsStopRequested())
+                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            return !_thread->IsStopRequested();
         }
-        // Passes sized from the measured rate so the last one ends at the deadline; one cut by
-        // a pause is redone on resume, so the image is the uninterrupted one (render.h).
-        const bool choosing = renderer->autoChoice().integrator.empty() && settings.integrator == gi::kAutoIntegrator;
-        gi::PassEnd end = renderer->renderNextPass(kMaxPassSamples, deadline, _cancel);
-        if (choosing && !renderer->autoChoice().integrator.empty())  // "auto" chose in that pass's preprocess
+        if (!reportedChoice && !renderer->autoChoice().integrator.empty()) {  // "auto" chose in this pass's preprocess
             TF_STATUS("hdGi: %s", renderer->autoChoice().summary().c_str());
-        taken = renderer->samplesTaken();
-        if (end == gi::PassEnd::Cancelled) continue;
-        bool timeUp = end == gi::PassEnd::Deadline || (deadline > 0 && gi::steadySeconds() >= deadline);
-        converged = taken >= target || timeUp;
+            reportedChoice = true;
+        }
+        int taken = renderer->samplesTaken();
+        converged = taken >= target || end == gi::PassEnd::Deadline || (deadline > 0 && gi::steadySeconds() >= deadline);
         if (stats.firstPixelSeconds == 0) stats.firstPixelSeconds = SecondsSince(start);
         _WriteAovs(*renderer, job, converged);
         stats.samples = taken;
@@ -106,14 +107,12 @@ void HdGiRenderSession::Run() {
             std::lock_guard<std::mutex> lock(_statsMutex);
             _stats = stats;
         }
-        if (converged) {
-            // tests/hydra look for this warning (hdgi_errors): the film hides bad samples.
-            if (stats.nonFiniteSamples > 0)
-                TF_WARN("hdGi: %llu non-finite samples (NaN, Inf or negative) were replaced by zero",
-                        (unsigned long long)stats.nonFiniteSamples);
-            break;
-        }
-    }
+        return !converged && !_thread->IsStopRequested();
+    };
+    renderer->render(_cancel, startSeconds, afterPass, kMaxPassSamples);
+    // The renderer's warnings (non-finite samples replaced, paths at the depth cap, a time limit
+    // too short for one sample): tests/hydra look for them (hdgi_errors).
+    _param->Store().ReportWarnings(*_scene);
     std::lock_guard<std::mutex> lock(_statsMutex);
     _stats.lastTileTime = std::max(_stats.lastTileTime, renderer->lastTileTime());
     _active = nullptr;

@@ -321,14 +321,13 @@ PassEnd Renderer::renderNextPass(int maxPassSamples, double deadline, const std:
     return end;
 }
 
-void Renderer::render(const std::atomic<bool>* cancel, double startedAt) {
+void Renderer::render(const std::atomic<bool>* cancel, double startedAt, const PassHook& afterPass, int maxPassSamples) {
     double start = startedAt > 0 ? startedAt : steadySeconds();
     double deadline = settings_.timeLimit > 0 ? start + settings_.timeLimit : 0;
-    preprocess(cancel, deadline);
     while (!finished()) {
-        if (cancel && cancel->load()) break;
-        if (renderNextPass(kMaxPassSamples, deadline, cancel) != PassEnd::Complete) break;
-        if (past(deadline)) break;
+        PassEnd end = renderNextPass(maxPassSamples, deadline, cancel);  // preprocesses first
+        bool goOn = afterPass ? afterPass(end) : end != PassEnd::Cancelled;
+        if (!goOn || end == PassEnd::Deadline || past(deadline)) break;
     }
     const uint64_t windowPixels = uint64_t(settings_.window.area());
     if (deadline > 0 && samplesTaken_ == 0 && stats_.partialPassPixels < windowPixels &&

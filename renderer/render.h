@@ -101,13 +101,20 @@ public:
     // progressive image refreshes.
     static constexpr int kMaxPassSamples = 64;
     bool finished() const { return samplesTaken_ >= std::max(1, settings_.spp); }
-    // Preprocess plus passes up to settings.spp (renderNextPass up to 64 samples), or until
+    // Called after every pass: returns whether to go on. A host shows the image there; after a
+    // Cancelled pass (a paused viewport) it may wait until the cancel is cleared and return true:
+    // the same pass is then rendered again.
+    using PassHook = std::function<bool(PassEnd)>;
+    // Preprocess plus passes up to settings.spp (renderNextPass up to `maxPassSamples`), or until
     // settings.timeLimit (measured from this call) with the last pass cut at the deadline. After
-    // a cancel, calling it again resumes the render where it stopped.
+    // a cancel, calling it again resumes the render where it stopped. Both hosts render through
+    // it (`gi render`, hdGi's render thread with its `afterPass`), so a time limit, the
+    // statistics and the warnings mean the same in both.
     // `startedAt` (steadySeconds(); 0 = now): when the budget began, for a host whose own work
     // before this call (committing the scene, building it) counts against the time limit;
     // stats().seconds is measured from it too.
-    void render(const std::atomic<bool>* cancel = nullptr, double startedAt = 0);
+    void render(const std::atomic<bool>* cancel = nullptr, double startedAt = 0, const PassHook& afterPass = {},
+                int maxPassSamples = kMaxPassSamples);
     // Fraction of settings.spp done, updated after every tile; safe to read from any thread.
     double progress() const { return progress_.load(std::memory_order_relaxed); }
     // steady_clock time (seconds since its epoch) when the last tile finished: lets a host check
