@@ -110,10 +110,12 @@ void HdGiRenderSession::Run() {
         return !converged && !_thread->IsStopRequested();
     };
     renderer->render(_cancel, startSeconds, afterPass, kMaxPassSamples);
+    stats.renderSeconds = SecondsSince(start);  // the scene build, preprocessing and every pass
     // The renderer's warnings (non-finite samples replaced, paths at the depth cap, a time limit
     // too short for one sample): tests/hydra look for them (hdgi_errors).
     _param->Store().ReportWarnings(*_scene);
     std::lock_guard<std::mutex> lock(_statsMutex);
+    _stats.renderSeconds = stats.renderSeconds;
     _stats.lastTileTime = std::max(_stats.lastTileTime, renderer->lastTileTime());
     _active = nullptr;
     _converged = converged;

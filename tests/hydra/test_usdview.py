@@ -64,6 +64,18 @@ def test_settings_changes_restart_and_change_the_image(session):
         assert results[name]["nonFiniteSamples"] == 0, (name, results[name])
 
 
+def test_time_limit_is_kept(session):
+    # Issue 16's bound for every host: within 5% + 0.2 s of the budget (tests/python/test_budgets.py
+    # holds `gi render` to the same).
+    _, results, _ = session
+    for integrator, (limit, seconds, samples) in results["time_limit"].items():
+        # `samples` counts whole passes: a budget that ends inside the first keeps its finished
+        # pixels (unbiased, render.h) and warns if some pixel has none (here it may, on a busy
+        # machine: the photon cache needs ~2.7 s for one sample at this size).
+        print(f"gi:timeLimit {limit} s with {integrator}: {seconds:.2f} s, {samples} whole samples per pixel")
+        assert abs(seconds - limit) <= 0.05 * limit + 0.2, (integrator, limit, seconds)
+
+
 def test_picking_the_sphere_selects_it(session):
     _, results, _ = session
     assert results["picked"] == ["/World/GlassSphere"]
@@ -74,10 +86,11 @@ def test_pause_and_stop_within_100_ms(session):
     print(f"render thread's last tile after pause: {results['pause_latency'] * 1000:.0f} ms "
           f"(last tile before it {results['pause_idle'] * 1000:.0f} ms earlier), after stop: "
           f"{results['stop_latency'] * 1000:.0f} ms (before it {results['stop_idle'] * 1000:.0f} ms)")
-    # The thread was rendering when asked (a tile ended within 100 ms before the request; an idle
-    # thread would make any latency pass), and its last tile ended within 100 ms after.
+    # The thread was rendering when asked (a tile ended within 0.5 s before the request; an idle
+    # thread, converged 1.5 s earlier, would make any latency pass), and its last tile ended
+    # within 100 ms after.
     for what in ("pause", "stop"):
-        assert 0 <= results[f"{what}_idle"] < 0.1, results
+        assert 0 <= results[f"{what}_idle"] < 0.5, results
         assert results[f"{what}_latency"] < 0.1, results
 
 
