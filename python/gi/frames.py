@@ -10,8 +10,6 @@ from pxr import Usd, UsdGeom
 from .lights import is_light
 
 RANGE_PART = re.compile(r"^\s*(-?\d+)(?:\s*-\s*(-?\d+)(?:\s*:\s*(-?\d+))?)?\s*$")
-# `####` (as many digits as hashes), `$F4` (four digits), `$F` (no padding): Houdini's and husk's.
-FRAME_TOKEN = re.compile(r"\$F(\d*)|(#+)")
 
 
 def parse_frames(text):
@@ -57,16 +55,15 @@ def chunks(frames, size):
 
 
 def has_frame_token(path):
-    return FRAME_TOKEN.search(str(path)) is not None
+    from .render import require_core
+    return require_core().has_frame_token(str(path))
 
 
 def frame_path(path, frame):
     """`path` with its frame tokens replaced by `frame`: `####` and `$F4` zero-padded to their
-    width, `$F` not padded."""
-    def replace(match):
-        width = len(match.group(2)) if match.group(2) else int(match.group(1) or 0)
-        return f"{frame:0{width}d}" if width else str(frame)
-    return FRAME_TOKEN.sub(replace, str(path))
+    width, `$F` not padded (renderer/render_vars.h: hdGi's render products follow it too)."""
+    from .render import require_core
+    return require_core().frame_path(str(path), int(frame))
 
 
 def frame_seed(seed, frame):

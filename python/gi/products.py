@@ -3,8 +3,9 @@ settings declare RenderProducts. Each product is one EXR: its productName (frame
 substituted), resolution, camera and data window, and one named set of channels per RenderVar, in
 the var's data type.
 
-A var's sourceName picks what the renderer computes (SOURCES); its dataType how many channels and
-how they are stored (DATA_TYPES). Problems warn naming the prim and leave out only what they
+A var's sourceName picks what the renderer computes, its dataType how many channels and how they
+are stored: renderer/render_vars.h holds those rules for both hosts (gi._core.render_var_layout).
+Problems warn naming the prim and leave out only what they
 concern: an unknown sourceName or dataType skips that var, a camera that is not there falls back to
 the render settings' camera, a data window outside the image is clipped to it."""
 import math
@@ -15,29 +16,9 @@ from pxr import UsdGeom, UsdRender
 
 from .errors import SceneError
 from .loader import render_settings as stage_render_settings
+from .render import require_core
 
 FLOAT_MAX = np.finfo(np.float32).max
-
-# sourceName -> (RenderResult attribute, its channel count). Hydra's and USD's usual names, plus
-# the spellings common in render settings (Ci, N, Z, P-less).
-SOURCES = {
-    "color": ("color", 3), "Ci": ("color", 3), "C": ("color", 3),
-    "depth": ("depth", 1), "Z": ("depth", 1), "z": ("depth", 1),
-    "normal": ("normal", 3), "N": ("normal", 3), "Neye": None,  # eye-space normal: not computed
-    "albedo": ("albedo", 3), "diffuseColor": ("albedo", 3),
-    "primId": ("prim_id", 1), "instanceId": ("instance_id", 1),
-}
-SOURCES = {name: source for name, source in SOURCES.items() if source is not None}
-
-# dataType -> (channel suffixes, stored as half). Ints are written as 32-bit float channels: EXR has
-# no signed integer channel, and ids (-1 for none) are exact in a float below 2^24.
-_COLOR, _VECTOR = ("R", "G", "B"), ("X", "Y", "Z")
-DATA_TYPES = {
-    "color3f": (_COLOR, False), "color3h": (_COLOR, True), "float3": (_COLOR, False), "half3": (_COLOR, True),
-    "normal3f": (_VECTOR, False), "normal3h": (_VECTOR, True), "vector3f": (_VECTOR, False),
-    "vector3h": (_VECTOR, True), "point3f": (_VECTOR, False), "point3h": (_VECTOR, True),
-    "float": (("",), False), "half": (("",), True), "int": (("",), False), "uint": (("",), False),
-}
 
 
 @dataclass
@@ -76,28 +57,17 @@ def _attribute(schema_attr, time, fallback):
 
 
 def read_var(prim, warn, beauty_taken):
+    core = require_core()
     var = UsdRender.Var(prim)
     path = str(prim.GetPath())
     source = str(var.GetSourceNameAttr().Get() or "")
     data_type = str(var.GetDataTypeAttr().Get() or "")
-    if source not in SOURCES:
-        warn(path, f"sourceName '{source}' is not an output of this renderer (it has: "
-                   f"{', '.join(sorted(SOURCES))}); var skipped")
+    try:
+        attribute, suffixes, half = core.render_var_layout(source, data_type)
+    except ValueError as problem:
+        warn(path, f"{problem}; var skipped")
         return None
-    if data_type not in DATA_TYPES:
-        warn(path, f"dataType '{data_type}' is not one this renderer writes ({', '.join(sorted(DATA_TYPES))}); "
-                   f"var skipped")
-        return None
-    attribute, components = SOURCES[source]
-    suffixes, half = DATA_TYPES[data_type]
-    if len(suffixes) != components:
-        warn(path, f"dataType '{data_type}' has {len(suffixes)} channels but '{source}' has {components}; "
-                   f"var skipped")
-        return None
-    name = prim.GetName()
-    if attribute == "color" and not beauty_taken:
-        name = ""  # plain R, G, B: what an EXR viewer shows
-    return Var(path, name, attribute, suffixes, half)
+    return Var(path, core.render_var_layer(prim.GetName(), attribute, beauty_taken), attribute, tuple(suffixes), half)
 
 
 def read_products(stage, settings, time, camera_override, warn):
@@ -172,6 +142,6 @@ def product_planes(product, result):
         image = image.reshape(image.shape[0], image.shape[1], -1)
         for c, suffix in enumerate(var.channels):
             planes.append(image[..., c])
-            names.append(".".join(p for p in (var.name, suffix) if p) or var.name)
+            names.append(require_core().channel_name(var.name, suffix))
             half.append(var.half)
     return np.ascontiguousarray(np.stack(planes, axis=-1)), names, half

@@ -18,6 +18,7 @@
 #include "renderer/image_io.h"
 #include "renderer/ray_benchmark.h"
 #include "renderer/render.h"
+#include "renderer/render_vars.h"
 #include "renderer/scene.h"
 
 namespace nb = nanobind;
@@ -506,6 +507,31 @@ void bindRendering(nb::module_& m) {
         "layers"_a = std::map<std::string, ImageArray>(),
         "The render's colour (or `color` instead), depth, normal and albedo, plus each of `layers` "
         "(name -> (H, W, 3) array) as name.R/G/B.");
+
+    // UsdRender var rules (renderer/render_vars.h), shared with hdGi.
+    m.def(
+        "render_var_layout",
+        [](const std::string& sourceName, const std::string& dataType) {
+            std::string problem;
+            std::optional<RenderVarLayout> layout = renderVarLayout(sourceName, dataType, &problem);
+            if (!layout) throw std::invalid_argument(problem);
+            return std::make_tuple(std::string(outputName(layout->output)), layout->suffixes, layout->half);
+        },
+        "source_name"_a, "data_type"_a,
+        "(output, channel suffixes, half) of a render var, e.g. ('color', ['R','G','B'], False); "
+        "ValueError with the reason when the renderer cannot write it.");
+    m.def(
+        "render_var_layer",
+        [](const std::string& varName, const std::string& output, bool beautyTaken) {
+            std::optional<RenderOutput> o = outputNamed(output);
+            if (!o) throw std::invalid_argument("no renderer output named '" + output + "'");
+            return renderVarLayer(varName, *o, beautyTaken);
+        },
+        "var_name"_a, "output"_a, "beauty_taken"_a, "The var's layer name ('' for a product's first colour var).");
+    m.def("channel_name", &channelName, "layer"_a, "suffix"_a, "layer.suffix (or either alone).");
+    m.def("frame_path", &substituteFrame, "path"_a, "frame"_a,
+          "`path` with $F, $F<width> and #### replaced by `frame` (zero-padded to the width).");
+    m.def("has_frame_token", &hasFrameToken, "path"_a);
 
     m.def(
         "write_channels_exr",
