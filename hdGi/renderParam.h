@@ -11,6 +11,7 @@
 #include "pxr/base/gf/vec2f.h"
 #include "pxr/base/tf/diagnostic.h"
 #include "pxr/imaging/hd/renderDelegate.h"
+#include "pxr/imaging/hd/renderSettings.h"
 #include "pxr/imaging/hd/renderThread.h"
 #include "pxr/pxr.h"
 #include "sceneStore.h"
@@ -37,10 +38,11 @@ public:
     int SceneVersion() const { return _sceneVersion.load(); }
 
     // A warning once per prim and message (Sync runs again on every edit).
-    void Warn(SdfPath const& id, std::string const& message) {
+    void Warn(SdfPath const& id, std::string const& message) { Warn(id.GetString() + ": " + message); }
+    // A warning once per message (it names what it is about).
+    void Warn(std::string const& message) {
         std::lock_guard<std::mutex> lock(_warnedMutex);
-        if (_warned.insert(id.GetString() + ": " + message).second)
-            TF_WARN("hdGi: %s: %s", id.GetText(), message.c_str());
+        if (_warned.insert(message).second) TF_WARN("hdGi: %s", message.c_str());
     }
 
     // The interval the gprims sample their motion over (times relative to the frame): the union of
@@ -59,6 +61,16 @@ public:
     GfVec2f SamplingInterval() const {
         std::lock_guard<std::mutex> lock(_shutterMutex);
         return _samplingInterval;
+    }
+
+    // The active render settings' products (empty: none), written when a render converges.
+    void SetProducts(HdRenderSettings::RenderProducts const& products) {
+        std::lock_guard<std::mutex> lock(_productsMutex);
+        _products = products;
+    }
+    HdRenderSettings::RenderProducts Products() const {
+        std::lock_guard<std::mutex> lock(_productsMutex);
+        return _products;
     }
 
 private:
@@ -80,6 +92,8 @@ private:
     mutable std::mutex _shutterMutex;
     std::map<SdfPath, GfVec2f> _shutters;
     GfVec2f _samplingInterval{0.0f};  // always holds the frame (0)
+    mutable std::mutex _productsMutex;
+    HdRenderSettings::RenderProducts _products;
 };
 
 PXR_NAMESPACE_CLOSE_SCOPE

@@ -52,6 +52,35 @@ gi::CameraDesc CameraOf(HdCamera const* camera, GfMatrix4d const& view, GfMatrix
     return desc;
 }
 
+// A batch host's render products (usdrecord sets enableInteractive false) are rendered as the
+// stage declares them: the first product's camera and resolution, instead of the host's viewport.
+bool ProductFraming(HdRenderIndex* index, HdRenderSettings::RenderProducts const& products, gi::CameraDesc* camera,
+                    GfRect2i* dataWindow, std::string* problem) {
+    HdRenderSettings::RenderProduct const& product = products.front();
+    if (product.resolution[0] <= 0 || product.resolution[1] <= 0) return false;
+    auto const* sprim = dynamic_cast<HdCamera const*>(index->GetSprim(HdPrimTypeTokens->camera, product.cameraPath));
+    if (!sprim) {
+        *problem = "render product " + product.productPath.GetString() + ": camera <" + product.cameraPath.GetString() +
+                   "> is not in the scene; the host's camera and image size are used";
+        return false;
+    }
+    *camera = CameraOf(sprim, sprim->GetTransform().GetInverse(), GfMatrix4d(1.0));
+    camera->useProjection = false;
+    camera->projection = sprim->GetProjection() == HdCamera::Orthographic ? "orthographic" : "perspective";
+    // UsdGeomCamera's tenths of a unit, as `gi render` reads them; the renderer conforms them to
+    // the resolution (renderer/camera.cpp). UsdImaging's scene index leaves the product's own
+    // conformed apertureSize at 0.
+    camera->horizontalAperture = float(sprim->GetHorizontalAperture() * 10.0);
+    camera->verticalAperture = float(sprim->GetVerticalAperture() * 10.0);
+    camera->horizontalApertureOffset = float(sprim->GetHorizontalApertureOffset() * 10.0);
+    camera->verticalApertureOffset = float(sprim->GetVerticalApertureOffset() * 10.0);
+    *dataWindow = GfRect2i(GfVec2i(0), product.resolution[0], product.resolution[1]);
+    if (product.dataWindowNDC != GfRange2f(GfVec2f(0.0f), GfVec2f(1.0f)))
+        *problem = "render product " + product.productPath.GetString() + ": dataWindowNDC is not supported through "
+                   "Hydra; the whole image is rendered";
+    return true;
+}
+
 }  // namespace
 
 void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVector const&) {
@@ -63,6 +92,15 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
     GfMatrix4d view = state->GetWorldToViewMatrix(), projection = state->GetProjectionMatrix();
     if (view != _view || projection != _projection) restart = true;
     GfRect2i dataWindow = DataWindow(state);
+    gi::CameraDesc camera = CameraOf(state->GetCamera(), view, projection);
+    HdRenderSettings::RenderProducts products;
+    bool productMode = false;
+    if (!delegate->GetRenderSetting<bool>(HdRenderSettingsTokens->enableInteractive, true) &&
+        !(products = _param->Products()).empty()) {
+        std::string problem;
+        productMode = ProductFraming(GetRenderIndex(), products, &camera, &dataWindow, &problem);
+        if (!problem.empty()) _param->Warn(problem);
+    }
     if (dataWindow != _dataWindow) restart = true;
     HdRenderPassAovBindingVector aovs = state->GetAovBindings();
     for (HdRenderPassAovBinding& aov : aovs)
@@ -96,7 +134,9 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
     HdGiRenderJob job;
     job.settings = HdGiReadSettings(*delegate);
     job.denoise = HdGiReadDenoise(*delegate);
-    job.camera = CameraOf(state->GetCamera(), view, projection);
+    job.products = products;
+    job.productMode = productMode;
+    job.camera = camera;
     job.projection = projection;
     job.dataWindow = dataWindow;
     job.aovs = aovs;

@@ -6,6 +6,7 @@
 #include "pxr/base/tf/diagnostic.h"
 #include "pxr/imaging/hd/renderIndex.h"
 #include "pxr/imaging/hd/tokens.h"
+#include "products.h"
 #include "renderBuffer.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
@@ -96,6 +97,8 @@ void HdGiRenderSession::Run() {
         int taken = renderer->samplesTaken();
         converged = taken >= target || end == gi::PassEnd::Deadline || (deadline > 0 && gi::steadySeconds() >= deadline);
         if (stats.firstPixelSeconds == 0) stats.firstPixelSeconds = SecondsSince(start);
+        // Products first: usdrecord looks for their files once the AOVs say converged.
+        if (converged && !job.products.empty()) _WriteProducts(*renderer, job);
         _WriteAovs(*renderer, job, converged);
         stats.samples = taken;
         stats.targetSamples = target;
@@ -150,12 +153,42 @@ std::vector<float> HdGiRenderSession::_Color(gi::Film const& film, HdGiRenderJob
     return film.color();
 }
 
+void HdGiRenderSession::_WriteProducts(gi::Renderer const& renderer, HdGiRenderJob const& job) {
+    gi::Film const& film = renderer.film();
+    auto ids = [](std::vector<int32_t> const& in, std::vector<int> const& map) {
+        std::vector<float> out(in.size());
+        for (size_t i = 0; i < in.size(); ++i)
+            out[i] = float(in[i] >= 0 && size_t(in[i]) < map.size() ? map[size_t(in[i])] : -1);
+        return out;
+    };
+    HdGiOutputPixels pixels = [&](gi::RenderOutput output) -> std::vector<float> {
+        switch (output) {
+            case gi::RenderOutput::Color: return _Color(film, job, true);
+            case gi::RenderOutput::Depth: return film.depth();
+            case gi::RenderOutput::Normal: return film.normal();
+            case gi::RenderOutput::Albedo: return film.albedo();
+            case gi::RenderOutput::PrimId: return ids(film.shapeIds(), _ids.shapePrimId);
+            case gi::RenderOutput::InstanceId: return ids(film.instanceIds(), _ids.instanceIndex);
+        }
+        return {};
+    };
+    std::map<std::string, std::string> metadata = {{"gi:integrator", job.settings.integrator},
+                                                   {"gi:spp", std::to_string(renderer.samplesTaken())},
+                                                   {"gi:seed", std::to_string(job.settings.seed)}};
+    HdGiWriteProducts(job.products, job.dataWindow.GetWidth(), job.dataWindow.GetHeight(), pixels, metadata,
+                      [this](std::string const& message) { _param->Warn(message); });
+}
+
 void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged) {
     gi::Film const& film = renderer.film();
     GfRect2i const& window = job.dataWindow;
     for (HdRenderPassAovBinding const& aov : job.aovs) {
         HdGiRenderBuffer* buffer = BufferOf(aov);
         if (!buffer) continue;
+        if (job.productMode) {
+            buffer->SetConverged(converged);
+            continue;
+        }
         TfToken const& name = aov.aovName;
         if (name == HdAovTokens->color) {
             buffer->WriteFloats(_Color(film, job, converged).data(), 3, window, 1.0f);

@@ -26,6 +26,10 @@ struct HdGiRenderJob {
     HdRenderPassAovBindingVector aovs;
     bool domeLightCameraVisibility = true;
     bool denoise = false;  // gi:denoise: the colour AOV denoised after each pass
+    HdRenderSettings::RenderProducts products;  // written when the render converges
+    // Rendered at the products' camera and resolution (a batch host): the AOV buffers, sized for
+    // the host's viewport, are only marked converged.
+    bool productMode = false;
 };
 
 struct HdGiSessionStats {
@@ -55,6 +59,8 @@ public:
 private:
     void _WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged);
     // The film's colour, denoised when the job asks for it and Open Image Denoise is there.
+    // The job's render products, written from the converged film (products.h).
+    void _WriteProducts(gi::Renderer const& renderer, HdGiRenderJob const& job);
     std::vector<float> _Color(gi::Film const& film, HdGiRenderJob const& job, bool converged);
 
     HdRenderThread* _thread;

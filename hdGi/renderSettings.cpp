@@ -4,6 +4,7 @@
 
 #include "pxr/base/tf/diagnostic.h"
 #include "pxr/imaging/hd/tokens.h"
+#include "renderParam.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
 
@@ -137,8 +138,9 @@ bool HdGiIsKnownSetting(std::string const& key) {
     return false;
 }
 
-void HdGiRenderSettings::_Sync(HdSceneDelegate*, HdRenderParam*, HdDirtyBits const*) {
+void HdGiRenderSettings::_Sync(HdSceneDelegate*, HdRenderParam* renderParam, HdDirtyBits const*) {
     if (!IsActive()) return;
+    static_cast<HdGiRenderParam*>(renderParam)->SetProducts(GetRenderProducts());
     static TfToken const samples("gi:samples");
     for (auto const& [key, value] : GetNamespacedSettings()) {
         // A typo ("gi:path:pathDepht") would otherwise leave that parameter at its default unseen.
