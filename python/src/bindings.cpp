@@ -19,6 +19,7 @@
 #include "renderer/ray_benchmark.h"
 #include "renderer/render.h"
 #include "renderer/scene.h"
+#include "renderer/usd_shading.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -119,6 +120,21 @@ void bindDescriptors(nb::module_& m) {
         .def_rw("roughness_texture", &MaterialDesc::roughnessTexture)
         .def_rw("opacity_texture", &MaterialDesc::opacityTexture)
         .def_rw("normal_texture", &MaterialDesc::normalTexture);
+
+    // The shading rules shared with hdGi (renderer/usd_shading.h).
+    m.def("connect_texture", &connectTexture, "material"_a, "input"_a, "texture"_a,
+          "Puts a UsdUVTexture on a UsdPreviewSurface input; the input's constant becomes the texture's "
+          "fallback (what a missing file reads). False for an unknown input.");
+    m.def(
+        "display_color_material",
+        [](const std::string& prim, std::optional<Float3> color) {
+            Color c = color ? toColor(*color) : Color(0.0f);
+            return displayColorMaterial(prim, color ? &c : nullptr);
+        },
+        "prim"_a, "display_color"_a = nb::none(),
+        "The material of a gprim with no usable material: UsdPreviewSurface defaults, diffuse = its displayColor.");
+    m.def("uv_primvar_of", &uvPrimvarOf, "reader_varnames"_a, "mesh_primvars"_a,
+          "The first reader varname the mesh has as a primvar, else '' (no texture coordinates).");
 
     nb::class_<LightDesc>(m, "LightDesc")
         .def(nb::init<>())
