@@ -138,15 +138,18 @@ def read_texture(texture, output, material_path, warn, seen) -> TextureRead:
     return TextureRead(desc, read_st_network(texture, desc))
 
 
-def connect_texture(desc, name, texture_field, texture):
-    """The texture on the input and its fallback as the input's constant (renderer/usd_shading.h,
-    shared with hdGi). Without the compiled core nothing renders, so only the texture is set."""
+def connect_texture(desc, name, field, texture_field, texture):
+    """The texture on the input and, as the input's constant, what it reads when the file is
+    missing (gi._core.texture_stand_in: renderer/usd_shading.h's rule, shared with hdGi). Without the
+    compiled core nothing renders, so only the texture is set."""
+    setattr(desc, texture_field, texture)
     try:
-        from ._core import connect_texture as connect
+        from ._core import texture_stand_in
     except ImportError:
-        setattr(desc, texture_field, texture)
         return
-    connect(desc, name, texture)
+    constant = texture_stand_in(name, tuple(texture.fallback), texture.channel)
+    if field is not None and constant is not None:
+        setattr(desc, field, constant)
 
 
 # -- UsdPreviewSurface ---------------------------------------------------------------------------
@@ -175,7 +178,7 @@ def read_input(shader, name, spec, desc, material_path, warn, textures):
             setattr(desc, field, converted(default, kind))
         return ""
     texture = read_texture(source.shader, source.output, material_path, warn, textures)
-    connect_texture(desc, name, texture_field, texture.desc)
+    connect_texture(desc, name, field, texture_field, texture.desc)
     return texture.uv_primvar
 
 
