@@ -10,6 +10,7 @@
 #include "pxr/imaging/hd/renderIndex.h"
 #include "pxr/imaging/hd/sceneDelegate.h"
 #include "pxr/usd/sdf/assetPath.h"
+#include "gprim.h"
 #include "renderParam.h"
 #include "renderer/usd_shading.h"
 
@@ -184,7 +185,7 @@ void HdGiMaterial::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, H
         // Meshes pick their texture coordinates by these names (HdGiMesh::Sync): when they change,
         // meshes read their primvars again (rprims sync after materials, in this same sync).
         if (param->EditScene().SetMaterial(id, desc, readerVarnames))
-            delegate->GetRenderIndex().GetChangeTracker().MarkAllRprimsDirty(HdChangeTracker::DirtyPrimvar);
+            delegate->GetRenderIndex().GetChangeTracker().MarkAllRprimsDirty(HdGiDirtyUvPrimvar);
     }
     *dirtyBits = Clean;
 }

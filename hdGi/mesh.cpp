@@ -96,7 +96,8 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
     bool geometryDirty = HdChangeTracker::IsTopologyDirty(bits, id) || HdChangeTracker::IsPrimvarDirty(bits, id, HdTokens->points) ||
                          HdChangeTracker::IsPrimvarDirty(bits, id, HdTokens->normals) ||
                          HdChangeTracker::IsSubdivTagsDirty(bits, id) || HdChangeTracker::IsDisplayStyleDirty(bits, id) ||
-                         HdChangeTracker::IsAnyPrimvarDirty(bits, id) || (bits & HdChangeTracker::DirtyMaterialId);
+                         HdChangeTracker::IsAnyPrimvarDirty(bits, id) ||
+                         (bits & (HdChangeTracker::DirtyMaterialId | HdGiDirtyUvPrimvar));
     if (geometryDirty) {
         HdGiMeshInput input;
         input.topology = GetMeshTopology(delegate);
@@ -127,7 +128,7 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
         g->pieceMaterials = _pieceMaterials;
         _state.Publish(*this, param, std::move(g));
     }
-    *dirtyBits &= ~HdChangeTracker::AllSceneDirtyBits;
+    *dirtyBits &= ~(HdChangeTracker::AllSceneDirtyBits | HdGiDirtyUvPrimvar);
 }
 
 void HdGiMesh::Finalize(HdRenderParam* renderParam) {

@@ -19,29 +19,28 @@ Color colorOf(const TextureDesc& t) {
 }  // namespace
 
 bool connectTexture(MaterialDesc& m, const std::string& input, const TextureDesc& t) {
-    if (input == "diffuseColor") {
-        m.diffuseColorTexture = t;
-        m.diffuseColor = colorOf(t);
-    } else if (input == "emissiveColor") {
-        m.emissiveColorTexture = t;
-        m.emissiveColor = colorOf(t);
-    } else if (input == "specularColor") {
-        m.specularColorTexture = t;
-        m.specularColor = colorOf(t);
-    } else if (input == "metallic") {
-        m.metallicTexture = t;
-        m.metallic = channelOf(t);
-    } else if (input == "roughness") {
-        m.roughnessTexture = t;
-        m.roughness = channelOf(t);
-    } else if (input == "opacity") {
-        m.opacityTexture = t;
-        m.opacity = channelOf(t);
-    } else if (input == "normal") {
-        m.normalTexture = t;  // no constant: the surface's own normal stands in
-    } else {
-        return false;
-    }
+    struct ColorInput { const char* name; Color MaterialDesc::*constant; TextureDesc MaterialDesc::*texture; };
+    struct FloatInput { const char* name; float MaterialDesc::*constant; TextureDesc MaterialDesc::*texture; };
+    static const ColorInput colors[] = {{"diffuseColor", &MaterialDesc::diffuseColor, &MaterialDesc::diffuseColorTexture},
+                                        {"emissiveColor", &MaterialDesc::emissiveColor, &MaterialDesc::emissiveColorTexture},
+                                        {"specularColor", &MaterialDesc::specularColor, &MaterialDesc::specularColorTexture}};
+    static const FloatInput floats[] = {{"metallic", &MaterialDesc::metallic, &MaterialDesc::metallicTexture},
+                                        {"roughness", &MaterialDesc::roughness, &MaterialDesc::roughnessTexture},
+                                        {"opacity", &MaterialDesc::opacity, &MaterialDesc::opacityTexture}};
+    for (const ColorInput& c : colors)
+        if (input == c.name) {
+            m.*c.texture = t;
+            m.*c.constant = colorOf(t);
+            return true;
+        }
+    for (const FloatInput& f : floats)
+        if (input == f.name) {
+            m.*f.texture = t;
+            m.*f.constant = channelOf(t);
+            return true;
+        }
+    if (input != "normal") return false;
+    m.normalTexture = t;  // no constant: the surface's own normal stands in
     return true;
 }
 

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import REPO, hdgi_errors, read_rgb, run_openusd, settings_layer
+from conftest import REPO, hdgi_errors, openusd_python, read_rgb, run_openusd, settings_layer
 from test_usdrecord import gi_render_scene
 
 sys.path.insert(0, str(REPO / "tests" / "parity"))
@@ -43,3 +43,21 @@ def test_usdrecord_and_gi_render_agree(tmp_path, stage, complexity):
     print(f"{stage} at {complexity}: {100 * identical:.2f}% of pixels identical, mean {hydra.mean():.5f} "
           f"(usdrecord) / {cli.mean():.5f} (gi render)")
     assert np.array_equal(hydra, cli)
+
+
+def test_editing_a_readers_varname_repicks_the_uvs(tmp_path):
+    """In one session, texture_varname's reader switched from uvSet1 to the mirrored decoy st and
+    back: the mesh re-reads its primvars (hdGi marks rprims dirty when a material's reader names
+    change), so the texture mirrors and then the first image comes back bit for bit."""
+    scene = stage_files.prepare("texture_varname", tmp_path / "stage")
+    script = REPO / "tests/hydra/scripts/record_varname_edit.py"
+    result = run_openusd([openusd_python(), str(script), str(scene), str(tmp_path),
+                          "/World/Tiles/Reader", "uvSet1", "st", "uvSet1"])
+    assert not hdgi_errors(result.stdout + result.stderr), result.stderr
+    upright, mirrored, back = (read_rgb(tmp_path / f"{i}-{n}.exr") for i, n in enumerate(["uvSet1", "st", "uvSet1"]))
+    # The quad's bottom-left clamped corner square (x, y in -1..-0.5, st in [0, 0.25]^2) shows one
+    # texel: red upright, green mirrored. The view is 2.4 units over 240 pixels, y down: columns
+    # 21..68 and rows 171..218 lie inside it.
+    corner = (slice(171, 219), slice(21, 69))
+    assert (upright[corner] == stage_files.RED).all() and (mirrored[corner] == stage_files.GREEN).all()
+    assert np.array_equal(upright, back)
