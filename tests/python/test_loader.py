@@ -249,6 +249,25 @@ def test_transform_double_sided_and_display_color(tmp_path, fake_scene):
     assert np.allclose(fake_scene.material_of("/Group/Quad").diffuse_color, (0.2, 0.4, 0.6))
 
 
+def test_unbound_prims_inherit_display_color_or_get_the_preview_surface_defaults(tmp_path, fake_scene):
+    """No material: a UsdPreviewSurface with the spec's defaults (0.18 diffuse, metallic workflow
+    with the 1.5 IOR's Fresnel lobe), its diffuse the displayColor the prim has or inherits from a
+    constant primvar of an ancestor (renderer/usd_shading.h, as hdGi does)."""
+    stage, path = new_stage(tmp_path)
+    group = UsdGeom.Xform.Define(stage, "/Painted")
+    UsdGeom.PrimvarsAPI(group).CreatePrimvar("displayColor", Sdf.ValueTypeNames.Color3fArray,
+                                             UsdGeom.Tokens.constant).Set([(0.2, 0.4, 0.6)])
+    define_mesh(stage, "/Painted/Child")
+    define_mesh(stage, "/Bare")
+    load(stage, path, fake_scene)
+    inherited, bare = fake_scene.material_of("/Painted/Child"), fake_scene.material_of("/Bare")
+    assert np.allclose(inherited.diffuse_color, (0.2, 0.4, 0.6))
+    assert np.allclose(bare.diffuse_color, (0.18, 0.18, 0.18))
+    for material in (inherited, bare):
+        assert not material.use_specular_workflow and material.ior == pytest.approx(1.5)
+        assert material.roughness == pytest.approx(0.5) and material.metallic == 0
+
+
 def test_invisible_and_guide_prims_are_skipped(tmp_path, fake_scene):
     stage, path = new_stage(tmp_path)
     UsdGeom.Xform.Define(stage, "/Hidden").CreateVisibilityAttr(UsdGeom.Tokens.invisible)
