@@ -5,6 +5,7 @@
 
 #include "pxr/base/gf/matrix4d.h"
 #include "pxr/base/gf/vec3f.h"
+#include "pxr/imaging/hd/changeTracker.h"
 #include "pxr/imaging/hd/rprim.h"
 #include "pxr/imaging/hd/sceneDelegate.h"
 #include "pxr/pxr.h"
@@ -38,5 +39,11 @@ void HdGiInitRepr(std::vector<std::pair<TfToken, HdReprSharedPtr>>& reprs, TfTok
 
 // Dirty bits every gprim wants on first sync.
 HdDirtyBits HdGiGprimInitialDirtyBits();
+
+// A material's primvar readers changed (HdGiMaterial::Sync): meshes pick their texture
+// coordinates again. A custom bit, because with UsdImaging's scene index (scene index emulation)
+// MarkAllRprimsDirty drops scene-data bits such as DirtyPrimvar for prims the emulation does not
+// hold, which is every prim; custom bits reach the rprims directly (HdChangeTracker::MarkRprimDirty).
+constexpr HdDirtyBits HdGiDirtyUvPrimvar = HdChangeTracker::CustomBitsBegin;
 
 PXR_NAMESPACE_CLOSE_SCOPE

@@ -1,11 +1,18 @@
 #include "material.h"
 
+#include <algorithm>
+
 #include "pxr/base/gf/vec2f.h"
 #include "pxr/base/gf/vec3f.h"
 #include "pxr/base/gf/vec4f.h"
+#include "pxr/base/tf/stringUtils.h"
+#include "pxr/imaging/hd/changeTracker.h"
+#include "pxr/imaging/hd/renderIndex.h"
 #include "pxr/imaging/hd/sceneDelegate.h"
 #include "pxr/usd/sdf/assetPath.h"
+#include "gprim.h"
 #include "renderParam.h"
+#include "renderer/usd_shading.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
 
@@ -65,7 +72,8 @@ public:
 
     // A UsdUVTexture feeding `input`, read into `texture`; false (and a warning for
     // unsupported nodes) when the input is a constant.
-    bool Texture(HdMaterialNode2 const& surface, char const* input, gi::TextureDesc* texture) {
+    bool Texture(HdMaterialNode2 const& surface, char const* input, gi::TextureDesc* texture,
+                 std::vector<std::string>* readerVarnames) {
         HdMaterialConnection2 const* c = Upstream(surface, input);
         if (!c) return false;
         HdMaterialNode2 const* node = Node(c->upstreamNode);
@@ -90,22 +98,31 @@ public:
         texture->sourceColorSpace = AsToken(ParamOf(*node, "sourceColorSpace"), "auto");
         std::string output = c->upstreamOutputName.GetString();
         texture->channel = output == "r" || output == "g" || output == "b" || output == "a" ? output : "rgb";
-        ReadStTransform(*node, texture);
+        std::string varname = ReadStNetwork(*node, texture);
+        if (!varname.empty() && std::find(readerVarnames->begin(), readerVarnames->end(), varname) == readerVarnames->end())
+            readerVarnames->push_back(varname);
         return true;
     }
 
 private:
-    // UsdTransform2d between the texture and its primvar reader.
-    void ReadStTransform(HdMaterialNode2 const& textureNode, gi::TextureDesc* texture) {
+    // The UsdTransform2d (optional) and UsdPrimvarReader_float2 feeding a texture's st: fills the
+    // transform into `texture`, returns the reader's varname ("" without a reader).
+    std::string ReadStNetwork(HdMaterialNode2 const& textureNode, gi::TextureDesc* texture) {
         HdMaterialConnection2 const* c = Upstream(textureNode, "st");
         HdMaterialNode2 const* node = c ? Node(c->upstreamNode) : nullptr;
-        if (!node || node->nodeTypeId != TfToken("UsdTransform2d")) return;
-        texture->stRotation = AsFloat(ParamOf(*node, "rotation"), 0);
-        VtValue scale = ParamOf(*node, "scale"), translation = ParamOf(*node, "translation");
-        if (scale.IsHolding<GfVec2f>()) texture->stScale = gi::Vec2(scale.UncheckedGet<GfVec2f>()[0], scale.UncheckedGet<GfVec2f>()[1]);
-        if (translation.IsHolding<GfVec2f>())
-            texture->stTranslation =
-                gi::Vec2(translation.UncheckedGet<GfVec2f>()[0], translation.UncheckedGet<GfVec2f>()[1]);
+        if (node && node->nodeTypeId == TfToken("UsdTransform2d")) {
+            texture->stRotation = AsFloat(ParamOf(*node, "rotation"), 0);
+            VtValue scale = ParamOf(*node, "scale"), translation = ParamOf(*node, "translation");
+            if (scale.IsHolding<GfVec2f>())
+                texture->stScale = gi::Vec2(scale.UncheckedGet<GfVec2f>()[0], scale.UncheckedGet<GfVec2f>()[1]);
+            if (translation.IsHolding<GfVec2f>())
+                texture->stTranslation =
+                    gi::Vec2(translation.UncheckedGet<GfVec2f>()[0], translation.UncheckedGet<GfVec2f>()[1]);
+            c = Upstream(*node, "in");
+            node = c ? Node(c->upstreamNode) : nullptr;
+        }
+        if (!node || !TfStringStartsWith(node->nodeTypeId.GetString(), "UsdPrimvarReader")) return "";
+        return AsToken(ParamOf(*node, "varname"), "");
     }
 
     SdfPath const& _id;
@@ -113,17 +130,10 @@ private:
     HdGiRenderParam* _param;
 };
 
-// The constant behind a textured input: the texture's fallback (what UsdUVTexture says to use
-// when the file is missing), in the channel the input reads.
-float FallbackChannel(gi::TextureDesc const& t) {
-    int c = t.channel == "g" ? 1 : t.channel == "b" ? 2 : t.channel == "a" ? 3 : 0;
-    return t.fallback[c];
-}
-
 }  // namespace
 
 std::shared_ptr<gi::MaterialDesc> HdGiMaterialFromNetwork(SdfPath const& id, HdMaterialNetwork2 const& network,
-                                                          HdGiRenderParam* param) {
+                                                          HdGiRenderParam* param, std::vector<std::string>* readerVarnames) {
     auto terminal = network.terminals.find(HdMaterialTerminalTokens->surface);
     if (terminal == network.terminals.end()) return nullptr;
     auto surfaceIt = network.nodes.find(terminal->second.upstreamNode);
@@ -152,22 +162,11 @@ std::shared_ptr<gi::MaterialDesc> HdGiMaterialFromNetwork(SdfPath const& id, HdM
     d->opacityThreshold = AsFloat(ParamOf(s, "opacityThreshold"), 0);
     d->ior = AsFloat(ParamOf(s, "ior"), 1.5f);
 
-    auto colorTexture = [&](char const* input, gi::TextureDesc* t, gi::Color* constant) {
-        if (!reader.Texture(s, input, t)) return;
-        *constant = t->channel == "rgb" ? gi::Color(t->fallback[0], t->fallback[1], t->fallback[2])
-                                        : gi::Color(FallbackChannel(*t));
-    };
-    auto floatTexture = [&](char const* input, gi::TextureDesc* t, float* constant) {
-        if (reader.Texture(s, input, t)) *constant = FallbackChannel(*t);
-    };
-    colorTexture("diffuseColor", &d->diffuseColorTexture, &d->diffuseColor);
-    colorTexture("emissiveColor", &d->emissiveColorTexture, &d->emissiveColor);
-    colorTexture("specularColor", &d->specularColorTexture, &d->specularColor);
-    floatTexture("metallic", &d->metallicTexture, &d->metallic);
-    floatTexture("roughness", &d->roughnessTexture, &d->roughness);
-    floatTexture("opacity", &d->opacityTexture, &d->opacity);
-    gi::Color unusedNormal;
-    colorTexture("normal", &d->normalTexture, &unusedNormal);
+    // A textured input's constant becomes the texture's fallback (renderer/usd_shading.h).
+    for (char const* input : {"diffuseColor", "emissiveColor", "specularColor", "metallic", "roughness", "opacity", "normal"}) {
+        gi::TextureDesc texture;
+        if (reader.Texture(s, input, &texture, readerVarnames)) gi::connectTexture(*d, input, texture);
+    }
     if (Upstream(s, "displacement")) param->Warn(id, "displacement is not supported; ignored");
     return d;
 }
@@ -178,11 +177,15 @@ void HdGiMaterial::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, H
     if (*dirtyBits & (DirtyResource | DirtyParams)) {
         VtValue resource = delegate->GetMaterialResource(id);
         std::shared_ptr<gi::MaterialDesc> desc;
+        std::vector<std::string> readerVarnames;
         if (resource.IsHolding<HdMaterialNetworkMap>()) {
             HdMaterialNetwork2 network = HdConvertToHdMaterialNetwork2(resource.UncheckedGet<HdMaterialNetworkMap>());
-            desc = HdGiMaterialFromNetwork(id, network, param);
+            desc = HdGiMaterialFromNetwork(id, network, param, &readerVarnames);
         }
-        param->EditScene().SetMaterial(id, desc);
+        // Meshes pick their texture coordinates by these names (HdGiMesh::Sync): when they change,
+        // meshes read their primvars again (rprims sync after materials, in this same sync).
+        if (param->EditScene().SetMaterial(id, desc, readerVarnames))
+            delegate->GetRenderIndex().GetChangeTracker().MarkAllRprimsDirty(HdGiDirtyUvPrimvar);
     }
     *dirtyBits = Clean;
 }

@@ -3,6 +3,8 @@
 // reads them when a visible prim uses the material.
 #pragma once
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "pxr/imaging/hd/material.h"
 #include "pxr/pxr.h"
@@ -20,8 +22,9 @@ public:
     void Finalize(HdRenderParam* renderParam) override;
 };
 
-// The network's surface as a MaterialDesc; warnings name the node and input.
+// The network's surface as a MaterialDesc; warnings name the node and input. `readerVarnames`
+// receives the primvars its textures' UsdPrimvarReader_float2 nodes read, in input order.
 std::shared_ptr<gi::MaterialDesc> HdGiMaterialFromNetwork(SdfPath const& id, HdMaterialNetwork2 const& network,
-                                                          HdGiRenderParam* param);
+                                                          HdGiRenderParam* param, std::vector<std::string>* readerVarnames);
 
 PXR_NAMESPACE_CLOSE_SCOPE

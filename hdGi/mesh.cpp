@@ -7,6 +7,7 @@
 #include "pxr/imaging/hd/timeSampleArray.h"
 #include "pxr/imaging/hd/tokens.h"
 #include "renderParam.h"
+#include "renderer/usd_shading.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
 
@@ -33,6 +34,22 @@ HdGiPrimvar FindPrimvar(HdRprim const& prim, HdSceneDelegate* delegate, TfToken 
             }
     }
     return HdGiPrimvar();
+}
+
+// The primvar holding the mesh's texture coordinates: the first its materials' (its own, then its
+// GeomSubsets') UsdPrimvarReader_float2 nodes name that it has (renderer/usd_shading.h).
+TfToken UvPrimvar(HdRprim const& prim, HdSceneDelegate* delegate, HdMeshTopology const& topology,
+                  HdGiSceneStore const& store) {
+    std::vector<std::string> wanted = store.ReaderVarnames(prim.GetMaterialId());
+    for (HdGeomSubset const& subset : topology.GetGeomSubsets())
+        for (std::string const& name : store.ReaderVarnames(subset.materialId))
+            if (std::find(wanted.begin(), wanted.end(), name) == wanted.end()) wanted.push_back(name);
+    if (wanted.empty()) return TfToken();
+    std::vector<std::string> names;
+    for (size_t i = 0; i < HdInterpolationCount; ++i)
+        for (HdPrimvarDescriptor const& pv : prim.GetPrimvarDescriptors(delegate, HdInterpolation(i)))
+            names.push_back(pv.name.GetString());
+    return TfToken(gi::uvPrimvarOf(wanted, names));
 }
 
 // The mesh's points over the cameras' shutters (SamplePrimvar: the interval's ends and the
@@ -79,7 +96,8 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
     bool geometryDirty = HdChangeTracker::IsTopologyDirty(bits, id) || HdChangeTracker::IsPrimvarDirty(bits, id, HdTokens->points) ||
                          HdChangeTracker::IsPrimvarDirty(bits, id, HdTokens->normals) ||
                          HdChangeTracker::IsSubdivTagsDirty(bits, id) || HdChangeTracker::IsDisplayStyleDirty(bits, id) ||
-                         HdChangeTracker::IsAnyPrimvarDirty(bits, id);
+                         HdChangeTracker::IsAnyPrimvarDirty(bits, id) ||
+                         (bits & (HdChangeTracker::DirtyMaterialId | HdGiDirtyUvPrimvar));
     if (geometryDirty) {
         HdGiMeshInput input;
         input.topology = GetMeshTopology(delegate);
@@ -89,7 +107,8 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
             input.topology.SetSubdivTags(delegate->GetSubdivTags(id));
         input.points = delegate->Get(id, HdTokens->points);
         input.normals = FindPrimvar(*this, delegate, HdTokens->normals);
-        input.st = FindPrimvar(*this, delegate, TfToken("st"));
+        input.uvName = UvPrimvar(*this, delegate, input.topology, param->EditScene());
+        if (!input.uvName.IsEmpty()) input.st = FindPrimvar(*this, delegate, input.uvName);
         // Only subdivision meshes are refined; the host's complexity sets the level.
         input.refineLevel = input.topology.GetScheme() == PxOsdOpenSubdivTokens->none
                                 ? 0
@@ -109,7 +128,7 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
         g->pieceMaterials = _pieceMaterials;
         _state.Publish(*this, param, std::move(g));
     }
-    *dirtyBits &= ~HdChangeTracker::AllSceneDirtyBits;
+    *dirtyBits &= ~(HdChangeTracker::AllSceneDirtyBits | HdGiDirtyUvPrimvar);
 }
 
 void HdGiMesh::Finalize(HdRenderParam* renderParam) {

@@ -95,7 +95,7 @@ HdGiMeshPieces HdGiTriangulate(SdfPath const& id, HdGiMeshInput const& in) {
     d.subdivision.cornerIndices = ToInts(tags.GetCornerIndices());
     d.subdivision.cornerSharpnesses = ToFloats(tags.GetCornerWeights());
     d.normals = ToMeshPrimvar<3>("normals", in.normals, out.warnings);
-    d.uvs = ToMeshPrimvar<2>("primvars:st", in.st, out.warnings);
+    d.uvs = ToMeshPrimvar<2>("primvars:" + in.uvName.GetString(), in.st, out.warnings);
     d.refineLevel = in.refineLevel;
 
     gi::TessellatedMesh t = gi::tessellate(d);

@@ -1,11 +1,12 @@
 // Hydra mesh data to renderer triangles: the topology, subdivision tags and the primvars the
-// renderer reads (normals, st) become plain arrays for gi::tessellate (renderer/mesh_description.h),
+// renderer reads (normals, texture coordinates) become plain arrays for gi::tessellate (renderer/mesh_description.h),
 // which holds the rules (holes, orientation, interpolations, OpenSubdiv refinement) for both hosts;
 // GeomSubset material pieces are cut by gi::splitByFace.
 #pragma once
 #include <string>
 #include <vector>
 
+#include "pxr/base/tf/token.h"
 #include "pxr/base/vt/types.h"
 #include "pxr/base/vt/value.h"
 #include "pxr/imaging/hd/enums.h"
@@ -25,7 +26,8 @@ struct HdGiPrimvar {
 struct HdGiMeshInput {
     HdMeshTopology topology;
     VtValue points;
-    HdGiPrimvar normals, st;
+    HdGiPrimvar normals, st;  // st: the texture coordinates, whatever the primvar's name
+    TfToken uvName;            // that name (HdGiMesh picks it by the materials' primvar readers)
     int refineLevel = 0;
 };
 

@@ -1,6 +1,7 @@
 #include "sceneStore.h"
 
 #include "pxr/base/tf/diagnostic.h"
+#include "renderer/usd_shading.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
 
@@ -18,10 +19,22 @@ void HdGiSceneStore::SetLight(SdfPath const& id, std::shared_ptr<const gi::Light
     else _lights.erase(id);
 }
 
-void HdGiSceneStore::SetMaterial(SdfPath const& id, std::shared_ptr<const gi::MaterialDesc> material) {
+bool HdGiSceneStore::SetMaterial(SdfPath const& id, std::shared_ptr<const gi::MaterialDesc> material,
+                                 std::vector<std::string> readerVarnames) {
     std::lock_guard<std::mutex> lock(_mutex);
     if (material) _materials[id] = std::move(material);
     else _materials.erase(id);
+    auto it = _readerVarnames.find(id);
+    bool changed = it == _readerVarnames.end() ? !readerVarnames.empty() : it->second != readerVarnames;
+    if (readerVarnames.empty()) _readerVarnames.erase(id);
+    else _readerVarnames[id] = std::move(readerVarnames);
+    return changed;
+}
+
+std::vector<std::string> HdGiSceneStore::ReaderVarnames(SdfPath const& material) const {
+    std::lock_guard<std::mutex> lock(_mutex);
+    auto it = _readerVarnames.find(material);
+    return it == _readerVarnames.end() ? std::vector<std::string>() : it->second;
 }
 
 void HdGiSceneStore::Remove(SdfPath const& id) {
@@ -29,6 +42,7 @@ void HdGiSceneStore::Remove(SdfPath const& id) {
     _geometry.erase(id);
     _lights.erase(id);
     _materials.erase(id);
+    _readerVarnames.erase(id);
 }
 
 size_t HdGiSceneStore::GeometryCount() const {
@@ -39,7 +53,7 @@ size_t HdGiSceneStore::GeometryCount() const {
 namespace {
 
 // Materials are added to the scene once each, on first use (textures of unused materials are
-// never read); meshes without one use their displayColor, as every Hydra renderer does.
+// never read); meshes without one use their displayColor (UsdImaging resolves its inheritance).
 class MaterialBinder {
 public:
     MaterialBinder(gi::Scene& scene, std::map<SdfPath, std::shared_ptr<const gi::MaterialDesc>> const& materials)
@@ -56,16 +70,12 @@ public:
                 if (slot->second >= 0) return slot->second;
             }
         }
-        GfVec3f c = g.hasDisplayColor ? g.displayColor : GfVec3f(0.18f);
-        std::string key = "displayColor:" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," +
-                          std::to_string(c[2]);
+        // No usable material: renderer/usd_shading.h's displayColor material (shared by equal colours).
+        std::string key = "displayColor";
+        gi::Color c(g.displayColor[0], g.displayColor[1], g.displayColor[2]);
+        if (g.hasDisplayColor) key += ":" + std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z);
         auto [slot, inserted] = _ids.emplace(key, -1);
-        if (inserted) {
-            gi::MaterialDesc desc;
-            desc.name = g.name + ".primvars:displayColor";
-            desc.diffuseColor = gi::Color(c[0], c[1], c[2]);
-            slot->second = _scene.addMaterial(desc);
-        }
+        if (inserted) slot->second = _scene.addMaterial(gi::displayColorMaterial(g.name, g.hasDisplayColor ? &c : nullptr));
         return slot->second;
     }
 

@@ -65,7 +65,11 @@ class HdGiSceneStore {
 public:
     void SetGeometry(SdfPath const& id, std::shared_ptr<const HdGiGeometry> geometry);
     void SetLight(SdfPath const& id, std::shared_ptr<const gi::LightDesc> light);
-    void SetMaterial(SdfPath const& id, std::shared_ptr<const gi::MaterialDesc> material);
+    // `readerVarnames`: the primvars the material's textures read (UsdPrimvarReader_float2's
+    // varname). True when they changed: meshes then pick their texture coordinates again.
+    bool SetMaterial(SdfPath const& id, std::shared_ptr<const gi::MaterialDesc> material,
+                     std::vector<std::string> readerVarnames = {});
+    std::vector<std::string> ReaderVarnames(SdfPath const& material) const;
     void Remove(SdfPath const& id);
 
     // A committed scene of everything visible now, with the id maps for the film's AOVs.
@@ -86,6 +90,7 @@ private:
     std::map<SdfPath, std::shared_ptr<const HdGiGeometry>> _geometry;
     std::map<SdfPath, std::shared_ptr<const gi::LightDesc>> _lights;
     std::map<SdfPath, std::shared_ptr<const gi::MaterialDesc>> _materials;
+    std::map<SdfPath, std::vector<std::string>> _readerVarnames;
     // Textures outlive the scene rebuilt on every edit: an unchanged file is read once.
     std::shared_ptr<gi::ImageCache> _images = std::make_shared<gi::ImageCache>();
 };

@@ -6,7 +6,7 @@ Conventions
 - Colors are linear RGB (Rec.709 primaries) float tuples.
 - Every `name` is the USD prim path the object came from; the renderer uses it in warnings.
 """
-from typing import Callable, Optional, Sequence
+from typing import Callable, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
@@ -287,3 +287,18 @@ def assign_subset_faces(face_count: int, subsets: Sequence[tuple[str, Optional[n
     'partition' family's faces in none reported. Returns {'piece_of_face': int32 (face_count,) (0:
     the mesh's own, i + 1: subsets[i]; None when face_count is 0), 'owns_faces': [bool] per subset,
     'warnings': [(prim path, message)]}."""
+
+# The shading rules shared with the Hydra delegate (renderer/usd_shading.h).
+def texture_stand_in(input: str, fallback: tuple[float, float, float, float],
+                     channel: str) -> Optional[Union[tuple[float, float, float], float]]:
+    """What a UsdPreviewSurface input connected to a UsdUVTexture reads when the file is missing: the
+    texture's fallback in the channel read (a colour for colour inputs, a float for the others);
+    None for normal or an unknown input."""
+
+def display_color_material(prim: str, display_color: Optional[tuple[float, float, float]] = None) -> MaterialDesc:
+    """The material of a gprim with no usable material: UsdPreviewSurface defaults, diffuse colour
+    = its displayColor when it has one."""
+
+def uv_primvar_of(reader_varnames: list[str], mesh_primvars: list[str]) -> str:
+    """The first UsdPrimvarReader_float2 varname the mesh has as a primvar, else '' (no texture
+    coordinates)."""

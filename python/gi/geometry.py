@@ -9,7 +9,6 @@ from typing import Optional
 import numpy as np
 from pxr import UsdGeom
 
-UV_PRIMVAR_NAMES = ("st", "st0", "UVMap")
 IMPLICIT_TYPES = ("Cube", "Cylinder", "Cylinder_1", "Cone", "Capsule", "Capsule_1", "Plane")
 
 
@@ -62,22 +61,18 @@ def mesh_normals(mesh, time):
     return None
 
 
-def uv_primvar(mesh, preferred_names=()):
-    """The texture-coordinate primvar: the material's reader's name, st, st0, UVMap, else the first
-    texCoord2f[] primvar."""
+def uv_primvar(mesh, reader_varnames=()):
+    """The texture-coordinate primvar: the first of the materials' UsdPrimvarReader_float2 varnames
+    that the mesh has (gi._core.uv_primvar_of, the rule hdGi follows), else None."""
+    from ._core import uv_primvar_of
     api = UsdGeom.PrimvarsAPI(mesh)
-    for name in (*preferred_names, *UV_PRIMVAR_NAMES):
-        primvar = api.GetPrimvar(name)
-        if primvar and primvar.HasAuthoredValue():
-            return primvar
-    for primvar in api.GetPrimvarsWithAuthoredValues():
-        if str(primvar.GetTypeName()) == "texCoord2f[]":
-            return primvar
-    return None
+    authored = [p.GetPrimvarName() for p in api.GetPrimvarsWithAuthoredValues()]
+    name = uv_primvar_of(list(reader_varnames), [str(n) for n in authored])
+    return api.GetPrimvar(name) if name else None
 
 
-def mesh_uvs(mesh, time, preferred_names=()):
-    primvar = uv_primvar(mesh, preferred_names)
+def mesh_uvs(mesh, time, reader_varnames=()):
+    primvar = uv_primvar(mesh, reader_varnames)
     return None if primvar is None else mesh_primvar(primvar, time, f"primvars:{primvar.GetPrimvarName()}")
 
 

@@ -286,7 +286,7 @@ class StageLoader(motion.MotionSampling):
         for subset in subsets:
             if not subset.owns_faces:
                 continue
-            subset.material, subset_uv_names = self.materials.bind(subset.prim)
+            subset.material, subset_uv_names = self.materials.bind(subset.prim, display_color=False)
             if subset.material < 0:
                 subset.material = mesh_material
             names += [n for n in subset_uv_names if n not in names]

@@ -88,19 +88,11 @@ def converted(value, kind):
     return float(value)
 
 
-def channel_of(fallback, channel, kind):
-    """The part of a 4-component texture value that the connected output delivers."""
-    if kind == "color":
-        return tuple(fallback[:3]) if channel == "rgb" else (fallback[CHANNELS[channel]],) * 3
-    return fallback[CHANNELS.get(channel, 0)]
-
-
 # -- textures ------------------------------------------------------------------------------------
 
 @dataclass
 class TextureRead:
-    desc: object = None           # None: the file is missing; use the constant
-    fallback: tuple = None        # the UsdUVTexture's authored fallback, if any
+    desc: object = None           # TextureDesc; its file is '' when missing (the fallback stands in)
     uv_primvar: str = ""          # UsdPrimvarReader_float2's varname
 
 
@@ -109,14 +101,14 @@ def texture_file(texture, material_path, warn, seen):
     material and the file) when it cannot be found."""
     asset = input_value(texture, "file", None)
     if not isinstance(asset, Sdf.AssetPath) or not asset.path:
-        warn(material_path, f"texture {texture.GetPath()} has no file; using the constant value")
+        warn(material_path, f"texture {texture.GetPath()} has no file; using its fallback")
         return ""
     resolved = asset.resolvedPath
     exists = bool(resolved) and os.path.isfile(resolved)
     seen[asset.path] = resolved if exists else None
     if not exists:
         warn(material_path, f"texture file '{asset.path}' (read by {texture.GetPath()}) was not found; "
-                            f"using the constant value")
+                            f"using its fallback")
         return ""
     return resolved
 
@@ -137,20 +129,27 @@ def read_st_network(texture, desc):
 
 
 def read_texture(texture, output, material_path, warn, seen) -> TextureRead:
-    authored_fallback = input_source(texture, "fallback").value
-    read = TextureRead(fallback=None if authored_fallback is None else tuple(authored_fallback))
-    file = texture_file(texture, material_path, warn, seen)
-    if not file:
-        return read
     desc = descriptors.TextureDesc()
-    desc.file = file
+    desc.file = texture_file(texture, material_path, warn, seen)
     for name, (field, default) in TEXTURE_INPUTS.items():
         value = input_value(texture, name, default)
         setattr(desc, field, str(value) if isinstance(default, str) else tuple(float(v) for v in value))
     desc.channel = output if output in CHANNELS else "rgb"
-    read.uv_primvar = read_st_network(texture, desc)
-    read.desc = desc
-    return read
+    return TextureRead(desc, read_st_network(texture, desc))
+
+
+def connect_texture(desc, name, field, texture_field, texture):
+    """The texture on the input and, as the input's constant, what it reads when the file is
+    missing (gi._core.texture_stand_in: renderer/usd_shading.h's rule, shared with hdGi). Without the
+    compiled core nothing renders, so only the texture is set."""
+    setattr(desc, texture_field, texture)
+    try:
+        from ._core import texture_stand_in
+    except ImportError:
+        return
+    constant = texture_stand_in(name, tuple(texture.fallback), texture.channel)
+    if field is not None and constant is not None:
+        setattr(desc, field, constant)
 
 
 # -- UsdPreviewSurface ---------------------------------------------------------------------------
@@ -179,21 +178,8 @@ def read_input(shader, name, spec, desc, material_path, warn, textures):
             setattr(desc, field, converted(default, kind))
         return ""
     texture = read_texture(source.shader, source.output, material_path, warn, textures)
-    if texture.desc is not None:
-        setattr(desc, texture_field, texture.desc)
-    if field is not None:
-        # The constant stands in when the file is missing: the texture's own fallback if authored
-        # (that is what UsdUVTexture says to use), else the input's value, else the spec default.
-        constant = input_fallback(shader, name, default, texture, source.output, kind)
-        setattr(desc, field, converted(constant, kind))
+    connect_texture(desc, name, field, texture_field, texture.desc)
     return texture.uv_primvar
-
-
-def input_fallback(shader, name, default, texture, output, kind):
-    if texture.fallback is not None:
-        return channel_of(texture.fallback, output if output in CHANNELS else "rgb", kind)
-    own_value = shader.GetInput(name).GetAttr().Get()
-    return default if own_value is None else own_value
 
 
 def once(warn):
@@ -228,6 +214,14 @@ def material_desc(material, warn, textures):
     return desc, tuple(uv_names)
 
 
+def display_color_desc(prim_path, rgb):
+    try:
+        from ._core import display_color_material
+    except ImportError:  # no compiled core (gi inspect): only counted
+        return descriptors.MaterialDesc()
+    return display_color_material(prim_path, rgb)
+
+
 # -- binding -------------------------------------------------------------------------------------
 
 class MaterialLibrary:
@@ -239,8 +233,9 @@ class MaterialLibrary:
         self.textures = {}      # texture asset path as authored -> resolved file, None if missing
         self.added = 0
 
-    def bind(self, prim):
-        """(material id or -1, uv primvar names) for a gprim."""
+    def bind(self, prim, display_color=True):
+        """(material id, uv primvar names) for a gprim: its bound material, else (display_color) its
+        displayColor material, else -1."""
         material, _ = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial(UsdShade.Tokens.full)
         if material:
             key = str(material.GetPath())
@@ -253,23 +248,19 @@ class MaterialLibrary:
                 self.ids[key] = (self.add(desc), uv_names) if desc is not None else (-1, ())
             if self.ids[key][0] >= 0:
                 return self.ids[key]
-        return self.display_color_material(prim), ()
+        return (self.display_color_material(prim) if display_color else -1), ()
 
     def display_color_material(self, prim):
-        """A diffuse material of the prim's displayColor (the first value), shared by equal colors."""
-        primvar = UsdGeom.PrimvarsAPI(prim).GetPrimvar("displayColor")
-        if not primvar or not primvar.HasValue():
-            return -1
-        colors = primvar.ComputeFlattened(self.time)
-        if colors is None or len(colors) == 0:
-            return -1
-        rgb = tuple(float(c) for c in colors[0])
+        """The material of a gprim with no usable material (renderer/usd_shading.h, shared with hdGi):
+        UsdPreviewSurface defaults with its displayColor (the first value; the prim's own primvar,
+        else the nearest ancestor's constant one, as UsdImaging inherits primvars) as diffuse colour.
+        Shared by prims of equal colour."""
+        primvar = UsdGeom.PrimvarsAPI(prim).FindPrimvarWithInheritance("displayColor")
+        colors = primvar.ComputeFlattened(self.time) if primvar and primvar.HasValue() else None
+        rgb = tuple(float(c) for c in colors[0]) if colors is not None and len(colors) else None
         key = ("displayColor", rgb)
         if key not in self.ids:
-            desc = descriptors.MaterialDesc()
-            desc.name = f"{prim.GetPath()}.primvars:displayColor"
-            desc.diffuse_color = rgb
-            self.ids[key] = (self.add(desc), ())
+            self.ids[key] = (self.add(display_color_desc(str(prim.GetPath()), rgb)), ())
         return self.ids[key][0]
 
     def add(self, desc):

@@ -20,6 +20,7 @@
 #include "renderer/render.h"
 #include "renderer/render_vars.h"
 #include "renderer/scene.h"
+#include "renderer/usd_shading.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -120,6 +121,37 @@ void bindDescriptors(nb::module_& m) {
         .def_rw("roughness_texture", &MaterialDesc::roughnessTexture)
         .def_rw("opacity_texture", &MaterialDesc::opacityTexture)
         .def_rw("normal_texture", &MaterialDesc::normalTexture);
+
+    // The shading rules shared with hdGi (renderer/usd_shading.h).
+    m.def(
+        "texture_stand_in",
+        [](const std::string& input, Float4 fallback, const std::string& channel) -> nb::object {
+            // connectTexture's constant for the input, from plain values (the loader's descriptors
+            // may be gi.descriptors' pure-Python stand-ins).
+            TextureDesc t;
+            std::tie(t.fallback[0], t.fallback[1], t.fallback[2], t.fallback[3]) = fallback;
+            t.channel = channel;
+            MaterialDesc d;
+            if (!connectTexture(d, input, t) || input == "normal") return nb::none();
+            if (input == "diffuseColor") return nb::cast(fromColor(d.diffuseColor));
+            if (input == "emissiveColor") return nb::cast(fromColor(d.emissiveColor));
+            if (input == "specularColor") return nb::cast(fromColor(d.specularColor));
+            return nb::cast(input == "metallic" ? d.metallic : input == "roughness" ? d.roughness : d.opacity);
+        },
+        "input"_a, "fallback"_a, "channel"_a,
+        "The constant a UsdPreviewSurface input connected to a UsdUVTexture reads when the file is missing "
+        "(renderer/usd_shading.h's connectTexture): the texture's fallback in the channel read; None for "
+        "normal or an unknown input.");
+    m.def(
+        "display_color_material",
+        [](const std::string& prim, std::optional<Float3> color) {
+            Color c = color ? toColor(*color) : Color(0.0f);
+            return displayColorMaterial(prim, color ? &c : nullptr);
+        },
+        "prim"_a, "display_color"_a = nb::none(),
+        "The material of a gprim with no usable material: UsdPreviewSurface defaults, diffuse = its displayColor.");
+    m.def("uv_primvar_of", &uvPrimvarOf, "reader_varnames"_a, "mesh_primvars"_a,
+          "The first reader varname the mesh has as a primvar, else '' (no texture coordinates).");
 
     nb::class_<LightDesc>(m, "LightDesc")
         .def(nb::init<>())

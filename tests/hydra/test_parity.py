@@ -1,30 +1,63 @@
-"""The mesh parity stages (tests/parity/*.usda) through both hosts: usdrecord --renderer Gi and
+"""The parity stages (tests/parity/*.usda) through both hosts: usdrecord --renderer Gi and
 `gi render`, same integrator, samples, seed and complexity, give the same image (both tessellate
-with renderer/mesh_description.h; tests/python/test_parity.py checks the `gi` side's statistics)."""
+with renderer/mesh_description.h and shade by renderer/usd_shading.h; tests/python/test_parity.py
+checks the `gi` side's statistics). usdrecord hides dome lights from the camera unless told
+(--enableDomeLightVisibility); `gi render` shows them, as the stages' dome does."""
+import sys
+
 import numpy as np
 import pytest
 
-from conftest import REPO, hdgi_errors, read_rgb, run_openusd, settings_layer
+from conftest import REPO, hdgi_errors, openusd_python, read_rgb, run_openusd, settings_layer
 from test_usdrecord import gi_render_scene
 
-PARITY = REPO / "tests" / "parity"
+sys.path.insert(0, str(REPO / "tests" / "parity"))
+import stage_files  # noqa: E402  (the stages with the textures they name)
+
 STAGES = [("holes", "low"), ("left_handed", "low"), ("face_varying_normals", "low"),
-          ("subdivision", "low"), ("subdivision", "high"), ("subdivision_creases_corners", "veryhigh")]
+          ("subdivision", "low"), ("subdivision", "high"), ("subdivision_creases_corners", "veryhigh"),
+          ("texture_st0", "low"), ("texture_varname", "low"), ("texture_missing", "low"),
+          ("display_color", "low"), ("display_color_inherited", "low"), ("geom_subsets", "low"),
+          ("instanced_materials", "low"), ("camera_offsets", "low")]
 SPP, SEED, WIDTH = 16, 0, 240
+# usdrecord's image height: the width over the camera's aperture aspect, truncated (frameRecorder.cpp);
+# camera_offsets' 24 x 16.25 aperture makes it 162, an aspect other than the aperture's.
+HEIGHTS = {"camera_offsets": 162}
 
 
 @pytest.mark.parametrize("stage, complexity", STAGES)
 def test_usdrecord_and_gi_render_agree(tmp_path, stage, complexity):
-    scene = PARITY / f"{stage}.usda"
+    scene = stage_files.prepare(stage, tmp_path / "stage")
     session = settings_layer(tmp_path / "session.usda", integrator="path", samples=SPP, seed=SEED)
     output = tmp_path / f"{stage}-{complexity}-hydra.exr"
     result = run_openusd(["usdrecord", "--disableGpu", "--renderer", "Gi", "--disableCameraLight",
-                          "--colorCorrectionMode", "disabled", "--imageWidth", str(WIDTH), "--camera", "/World/Camera",
-                          "--complexity", complexity, "--sessionLayer", str(session), str(scene), str(output)])
+                          "--enableDomeLightVisibility", "--colorCorrectionMode", "disabled", "--imageWidth", str(WIDTH),
+                          "--camera", "/World/Camera", "--complexity", complexity, "--sessionLayer", str(session),
+                          str(scene), str(output)])
     assert not hdgi_errors(result.stdout + result.stderr), result.stderr
     hydra = read_rgb(output)
-    cli = gi_render_scene(tmp_path, scene, "path", SPP, SEED, WIDTH, WIDTH, "--complexity", complexity)
+    height = HEIGHTS.get(stage, WIDTH)
+    assert hydra.shape[:2] == (height, WIDTH)
+    cli = gi_render_scene(tmp_path, scene, "path", SPP, SEED, WIDTH, height, "--complexity", complexity)
     identical = (np.abs(hydra - cli).max(axis=-1) == 0).mean()
-    print(f"{stage} at {complexity}: {100 * identical:.2f}% of pixels identical, covered {hydra.mean():.5f} "
+    print(f"{stage} at {complexity}: {100 * identical:.2f}% of pixels identical, mean {hydra.mean():.5f} "
           f"(usdrecord) / {cli.mean():.5f} (gi render)")
     assert np.array_equal(hydra, cli)
+
+
+def test_editing_a_readers_varname_repicks_the_uvs(tmp_path):
+    """In one session, texture_varname's reader switched from uvSet1 to the mirrored decoy st and
+    back: the mesh re-reads its primvars (hdGi marks rprims dirty when a material's reader names
+    change), so the texture mirrors and then the first image comes back bit for bit."""
+    scene = stage_files.prepare("texture_varname", tmp_path / "stage")
+    script = REPO / "tests/hydra/scripts/record_varname_edit.py"
+    result = run_openusd([openusd_python(), str(script), str(scene), str(tmp_path),
+                          "/World/Tiles/Reader", "uvSet1", "st", "uvSet1"])
+    assert not hdgi_errors(result.stdout + result.stderr), result.stderr
+    upright, mirrored, back = (read_rgb(tmp_path / f"{i}-{n}.exr") for i, n in enumerate(["uvSet1", "st", "uvSet1"]))
+    # The quad's bottom-left clamped corner square (x, y in -1..-0.5, st in [0, 0.25]^2) shows one
+    # texel: red upright, green mirrored. The view is 2.4 units over 240 pixels, y down: columns
+    # 21..68 and rows 171..218 lie inside it.
+    corner = (slice(171, 219), slice(21, 69))
+    assert (upright[corner] == stage_files.RED).all() and (mirrored[corner] == stage_files.GREEN).all()
+    assert np.array_equal(upright, back)

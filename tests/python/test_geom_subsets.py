@@ -44,6 +44,24 @@ def material(stage, path, emissive=None, diffuse=(0.0, 0.0, 0.0), **inputs):
     return result
 
 
+def read_through_st(stage, bound, file):
+    """Drives `bound`'s diffuseColor by a texture read through a UsdPrimvarReader_float2 of st: the
+    mesh's texture coordinates are those the readers of its materials (subsets' included) name."""
+    path = bound.GetPath()
+    reader = UsdShade.Shader.Define(stage, path.AppendChild("Reader"))
+    reader.CreateIdAttr("UsdPrimvarReader_float2")
+    reader.CreateInput("varname", Sdf.ValueTypeNames.String).Set("st")
+    reader.CreateOutput("result", Sdf.ValueTypeNames.Float2)
+    texture = UsdShade.Shader.Define(stage, path.AppendChild("Texture"))
+    texture.CreateIdAttr("UsdUVTexture")
+    texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(str(file))
+    texture.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(reader.ConnectableAPI(), "result")
+    texture.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
+    surface = UsdShade.Shader(stage.GetPrimAtPath(path.AppendChild("Surface")))
+    surface.GetInput("diffuseColor").ConnectToSource(texture.ConnectableAPI(), "rgb")
+    return bound
+
+
 def bind(prim, bound):
     UsdShade.MaterialBindingAPI.Apply(prim.GetPrim()).Bind(bound)
 
@@ -203,7 +221,9 @@ def test_normals_and_uvs_survive_the_split(tmp_path, fake_scene, interpolation):
         expected = {(f, STRIP_INDICES[4 * f + k]): (uvs[STRIP_INDICES[4 * f + k]], normals[STRIP_INDICES[4 * f + k]])
                     for f in range(3) for k in range(4)}
     api.CreatePrimvar("normals", Sdf.ValueTypeNames.Normal3fArray, interpolation).Set(normals)
-    subset(mesh, "Right", [2], material(stage, "/Looks/Red", diffuse=(0.8, 0.1, 0.1)))
+    (tmp_path / "red.png").write_bytes(b"not read: the loader only checks it exists")
+    red = read_through_st(stage, material(stage, "/Looks/Red", diffuse=(0.8, 0.1, 0.1)), tmp_path / "red.png")
+    subset(mesh, "Right", [2], red)
     subset(mesh, "Left", [0], material(stage, "/Looks/Green", diffuse=(0.1, 0.8, 0.1)))
     loaded = load(stage, path, fake_scene)
     assert loaded.warnings == []

@@ -206,18 +206,23 @@ def test_normals_of_every_interpolation(tmp_path, fake_scene, interpolation, val
         assert np.allclose(recorded.normals, expected)
 
 
-def test_st_primvar_with_indices_and_fallback_names(tmp_path, fake_scene):
+def test_uv_primvar_is_the_one_the_reader_names(tmp_path, fake_scene):
+    """Indexed texture coordinates come from the primvar the material's UsdPrimvarReader_float2
+    names, whatever it is called; a mesh without that primvar has none (the reader's fallback
+    (0, 0) everywhere), even when it has an st (renderer/usd_shading.h's uvPrimvarOf)."""
     stage, path = new_stage(tmp_path)
-    for name in ("st", "UVMap"):
-        mesh = define_mesh(stage, f"/{name}Quad")
+    for name, varname in (("st", "st"), ("UVMap", "UVMap"), ("st", "uvSet9")):
+        mesh = define_mesh(stage, f"/{name}For{varname}")
         st = UsdGeom.PrimvarsAPI(mesh).CreatePrimvar(name, Sdf.ValueTypeNames.TexCoord2fArray,
                                                      UsdGeom.Tokens.faceVarying)
         st.Set([(0, 0), (1, 0), (1, 1), (0, 1)])
         st.SetIndices(Vt.IntArray([3, 2, 1, 0]))
+        bind(mesh, add_textured_material(stage, "brick.png", path=f"/Looks/{varname}", varname=varname))
     load(stage, path, fake_scene)
     for name in ("st", "UVMap"):
-        uvs = fake_scene.mesh(f"/{name}Quad").uvs
+        uvs = fake_scene.mesh(f"/{name}For{name}").uvs
         assert np.allclose(uvs, np.array([(0, 1), (1, 1), (1, 0), (0, 0)])[[0, 1, 2, 0, 2, 3]]), name
+    assert fake_scene.mesh("/stForuvSet9").uvs is None
 
 
 def test_left_handed_orientation_flips_the_winding(tmp_path, fake_scene):
@@ -242,6 +247,25 @@ def test_transform_double_sided_and_display_color(tmp_path, fake_scene):
     assert np.allclose(recorded.transform, np.diag([2, 2, 2, 1]) + np.outer([0, 0, 0, 1], [1, 2, 3, 0]))
     assert not recorded.double_sided
     assert np.allclose(fake_scene.material_of("/Group/Quad").diffuse_color, (0.2, 0.4, 0.6))
+
+
+def test_unbound_prims_inherit_display_color_or_get_the_preview_surface_defaults(tmp_path, fake_scene):
+    """No material: a UsdPreviewSurface with the spec's defaults (0.18 diffuse, metallic workflow
+    with the 1.5 IOR's Fresnel lobe), its diffuse the displayColor the prim has or inherits from a
+    constant primvar of an ancestor (renderer/usd_shading.h, as hdGi does)."""
+    stage, path = new_stage(tmp_path)
+    group = UsdGeom.Xform.Define(stage, "/Painted")
+    UsdGeom.PrimvarsAPI(group).CreatePrimvar("displayColor", Sdf.ValueTypeNames.Color3fArray,
+                                             UsdGeom.Tokens.constant).Set([(0.2, 0.4, 0.6)])
+    define_mesh(stage, "/Painted/Child")
+    define_mesh(stage, "/Bare")
+    load(stage, path, fake_scene)
+    inherited, bare = fake_scene.material_of("/Painted/Child"), fake_scene.material_of("/Bare")
+    assert np.allclose(inherited.diffuse_color, (0.2, 0.4, 0.6))
+    assert np.allclose(bare.diffuse_color, (0.18, 0.18, 0.18))
+    for material in (inherited, bare):
+        assert not material.use_specular_workflow and material.ior == pytest.approx(1.5)
+        assert material.roughness == pytest.approx(0.5) and material.metallic == 0
 
 
 def test_invisible_and_guide_prims_are_skipped(tmp_path, fake_scene):
@@ -339,9 +363,9 @@ def test_instanceable_prims_share_one_prototype(tmp_path, fake_scene):
 
 # -- materials -----------------------------------------------------------------------------------
 
-def add_textured_material(stage, file, diffuse_constant=None):
-    material, surface = define_preview_material(stage, "/Looks/Brick")
-    texture = UsdShade.Shader.Define(stage, "/Looks/Brick/Texture")
+def add_textured_material(stage, file, diffuse_constant=None, path="/Looks/Brick", varname="uvSet1"):
+    material, surface = define_preview_material(stage, path)
+    texture = UsdShade.Shader.Define(stage, f"{path}/Texture")
     texture.CreateIdAttr("UsdUVTexture")
     texture.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(file)
     texture.CreateInput("wrapS", Sdf.ValueTypeNames.Token).Set("clamp")
@@ -349,11 +373,11 @@ def add_textured_material(stage, file, diffuse_constant=None):
     texture.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("sRGB")
     texture.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
     texture.CreateOutput("r", Sdf.ValueTypeNames.Float)
-    reader = UsdShade.Shader.Define(stage, "/Looks/Brick/Reader")
+    reader = UsdShade.Shader.Define(stage, f"{path}/Reader")
     reader.CreateIdAttr("UsdPrimvarReader_float2")
-    reader.CreateInput("varname", Sdf.ValueTypeNames.Token).Set("uvSet1")
+    reader.CreateInput("varname", Sdf.ValueTypeNames.Token).Set(varname)
     reader.CreateOutput("result", Sdf.ValueTypeNames.Float2)
-    transform = UsdShade.Shader.Define(stage, "/Looks/Brick/Transform")
+    transform = UsdShade.Shader.Define(stage, f"{path}/Transform")
     transform.CreateIdAttr("UsdTransform2d")
     transform.CreateInput("in", Sdf.ValueTypeNames.Float2).ConnectToSource(reader.ConnectableAPI(), "result")
     transform.CreateInput("rotation", Sdf.ValueTypeNames.Float).Set(30)
@@ -396,14 +420,16 @@ def test_texture_network_is_read_into_texture_descs(tmp_path, fake_scene):
     assert loaded.textures == {"./brick.png": str(tmp_path / "brick.png")}
 
 
-def test_missing_texture_warns_naming_material_and_file_and_uses_the_constant(tmp_path, fake_scene):
+def test_missing_texture_warns_naming_material_and_file_and_reads_its_fallback(tmp_path, fake_scene):
+    """The input's own value (0.3, 0.2, 0.1) is overridden by its connection: a missing file reads
+    the texture's fallback, here the spec's (0, 0, 0, 1), in the channel each input takes."""
     stage, path = textured_quad(tmp_path, "missing_brick.png", diffuse_constant=(0.3, 0.2, 0.1))
     loaded = load(stage, path, fake_scene)
     warnings = [w for w in loaded.warnings if "missing_brick.png" in w]
     assert len(warnings) == 1 and "/Looks/Brick" in warnings[0] and str(path) in warnings[0]
     material = fake_scene.material_of("/Quad")
     assert material.diffuse_color_texture.file == ""
-    assert np.allclose(material.diffuse_color, (0.3, 0.2, 0.1))
+    assert np.allclose(material.diffuse_color, (0, 0, 0)) and material.roughness == 0
     assert loaded.textures == {"missing_brick.png": None}
 
 

@@ -10,6 +10,7 @@ Noise bound used below: a pixel cut by an edge reads the fraction of its SPP sam
 standard deviation at most 0.5 / sqrt(SPP) pixels; over P such pixels at most 0.5 sqrt(P / SPP).
 Tolerances are 4 of those sigmas."""
 import math
+import sys
 
 import numpy as np
 import pytest
@@ -17,6 +18,8 @@ import pytest
 from conftest import ROOT, run_gi
 
 PARITY = ROOT / "tests" / "parity"
+sys.path.insert(0, str(PARITY))
+import stage_files  # noqa: E402  (tests/parity/stage_files.py: the stages with their textures)
 SPP = 16
 PIXEL = 0.01         # units per pixel
 HALF_VIEW = 1.2      # the view spans -1.2..1.2 in x and y
@@ -27,11 +30,12 @@ LIMIT_FACE_CENTRE = 68 / 81  # Catmull-Clark limit of a cube face's centre (test
 FACE_CENTRE_EXCESS = 1 - LIMIT_FACE_CENTRE
 
 
-def render(tmp_path, stage, *flags):
-    """The stage rendered by `gi render` (seed 0): channel name -> (240, 240) array."""
+def render(tmp_path, stage, *flags, seed=0):
+    """The stage rendered by `gi render`: channel name -> (height, width) array."""
     from gi import _core
-    output = tmp_path / f"{stage}{''.join(flags)}.exr"
-    run_gi("render", PARITY / f"{stage}.usda", "--spp", SPP, "--seed", 0, "-o", output, "--no-png", *flags)
+    output = tmp_path / f"{stage}{''.join(map(str, flags))}-{seed}.exr"
+    scene = stage_files.prepare(stage, tmp_path / "stages")
+    run_gi("render", scene, "--spp", SPP, "--seed", seed, "-o", output, "--no-png", *flags)
     pixels, meta = _core.read_image(str(output))
     pixels = np.asarray(pixels, np.float64)
     return {name: pixels[..., i] for i, name in enumerate(meta["channels"])}
@@ -154,3 +158,149 @@ def test_indexed_face_varying_normals(tmp_path):
     left, right = region(normal, -1.0, 0.0, -0.5, 0.5), region(normal, 0.0, 1.0, -0.5, 0.5)
     assert np.abs(left - (0, 0, 1)).max() < 1e-6
     assert np.abs(right - (0.6, 0, 0.8)).max() < 1e-6
+
+
+# -- shading rules (renderer/usd_shading.h) -------------------------------------------------------
+# The textured stages emit their texture on the quad (-1..1)^2, so st = (x + 1) / 2, (y + 1) / 2. With
+# two texels a side and wrap clamp, st in [0, 0.25] or [0.75, 1] reads one texel alone: the quad's
+# corner squares (x, y within 0.5 of a corner) show their texel exactly, samples and seed aside.
+
+def rgb(image):
+    return np.stack([image["R"], image["G"], image["B"]], axis=-1)
+
+
+def corner_squares():
+    """(x0, x1, y0, y1) of each corner square of the quad -> the texel it shows."""
+    return {(-1.0 if u < 0.5 else 0.5, -0.5 if u < 0.5 else 1.0, -1.0 if v < 0.5 else 0.5, -0.5 if v < 0.5 else 1.0):
+            colour for (u, v), colour in stage_files.QUADRANTS.items()}
+
+
+def assert_texture_upright(color):
+    for (x0, x1, y0, y1), texel in corner_squares().items():
+        square = region(color, x0, x1, y0, y1)
+        assert square.size and np.array_equal(square, np.broadcast_to(texel, square.shape)), ((x0, y0), texel)
+    # The bilinear, clamped 2 x 2 texture averages to its texels' mean over st [0, 1]^2 (symmetry):
+    # (0.5, 0.5, 0.5). Inside a pixel the box filter's SPP jittered samples of a ramp of slope 1 per
+    # unit (0.01 a pixel) deviate by 0.01 / sqrt(12 SPP) each, independently, so the quad's mean over
+    # its 40 000 pixels is within 4 * 0.01 / sqrt(12 SPP) / 200 (about 3e-5) of it.
+    quad = region(color, -1, 1, -1, 1, inset=0)
+    assert np.abs(quad.mean(axis=(0, 1)) - 0.5).max() < 4 * 0.01 / math.sqrt(12 * SPP) / 200
+
+
+def test_texture_read_through_st0(tmp_path):
+    """The reader's varname (st0, through the material's interface input) names the only uv set."""
+    assert_texture_upright(rgb(render(tmp_path, "texture_st0")))
+
+
+def test_reader_varname_beats_a_decoy_st(tmp_path):
+    """primvars:uvSet1, which the reader names, is read; the mirrored primvars:st is not."""
+    assert_texture_upright(rgb(render(tmp_path, "texture_varname")))
+
+
+def test_missing_texture_reads_its_fallback(tmp_path):
+    """The input's own authored (1, 1, 1) is overridden by its connection: without a fallback input
+    the texture reads the spec's (0, 0, 0, 1), black; with one, its value; a warning names each."""
+    from gi import descriptors
+    from gi.loader import load_stage
+    color = rgb(render(tmp_path, "texture_missing"))
+    assert (region(color, -1.0, -0.1, -0.5, 0.5) == 0).all()
+    right = region(color, 0.1, 1.0, -0.5, 0.5)
+    assert right.size and np.abs(right - np.float32([0.2, 0.5, 0.8])).max() < 1e-6
+    loaded = load_stage(tmp_path / "stages" / "texture_missing.usda", scene=descriptors.new_scene())
+    for material in ("/World/NoFallback", "/World/WithFallback"):
+        assert any(material in w and "no_such_texture.exr" in w for w in loaded.warnings), loaded.warnings
+
+
+# UsdPreviewSurface's Fresnel reflectance at normal incidence for its default ior 1.5: the fallback
+# material's specular lobe, which the albedo AOV adds to the diffuse colour.
+F0 = ((1.5 - 1) / (1.5 + 1)) ** 2
+# A quad of diffuse colour (0.25, 0.5, 0.75) (UsdPreviewSurface defaults otherwise) under the white
+# dome: its mean radiance, measured over seeds 0-7 at 16 spp (standard deviation of those means at
+# most 1.5e-4 over both stages' quads; a pure Lambert surface would read exactly its colour).
+DISPLAY_COLOR_RADIANCE = (0.27668, 0.51669, 0.75669)
+RADIANCE_TOLERANCE = 4 * 1.5e-4
+
+
+def assert_display_color_shaded(image, x0, x1, colour):
+    albedo = np.stack([image["albedo.R"], image["albedo.G"], image["albedo.B"]], axis=-1)
+    quad = region(albedo, x0, x1, -0.5, 0.5)
+    assert quad.size and np.abs(quad - (np.array(colour) + F0)).max() < 1e-6, (x0, colour)
+    mean = region(rgb(image), x0, x1, -0.5, 0.5).mean(axis=(0, 1))
+    expected = DISPLAY_COLOR_RADIANCE if colour[0] < colour[2] else DISPLAY_COLOR_RADIANCE[::-1]
+    assert np.abs(mean - expected).max() < RADIANCE_TOLERANCE, (x0, mean)
+
+
+def test_display_color_without_material(tmp_path):
+    image = render(tmp_path, "display_color")
+    assert_display_color_shaded(image, -1.0, 1.0, (0.25, 0.5, 0.75))
+    assert (region(rgb(image), -1.2, 1.2, 0.5, 1.2) == 1).all()  # the dome, seen directly
+
+
+def test_display_color_is_inherited(tmp_path):
+    image = render(tmp_path, "display_color_inherited")
+    assert_display_color_shaded(image, -1.0, -0.1, (0.25, 0.5, 0.75))   # the parent's
+    assert_display_color_shaded(image, 0.1, 1.0, (0.75, 0.5, 0.25))     # its own
+
+
+def test_geom_subsets_bind_their_materials(tmp_path):
+    """Left to right: subset RedFaces' material, the mesh's own (Green), subset BlueFaces'. All edges
+    are on pixel edges: each quad's pixels are its colour exactly, the gaps black."""
+    color = rgb(render(tmp_path, "geom_subsets"))
+    for (x0, x1), colour in (((-1.0, -0.4), (1, 0, 0)), ((-0.3, 0.3), (0, 1, 0)), ((0.4, 1.0), (0, 0, 1))):
+        quad = region(color, x0, x1, -0.5, 0.5, inset=0)
+        assert np.array_equal(quad, np.broadcast_to(np.float64(colour), quad.shape)), colour
+    assert area(color.sum(axis=-1)) == pytest.approx(3 * 0.6, abs=1e-4)
+
+
+def test_instances_keep_their_prototypes_materials(tmp_path):
+    """Each tile shows its prototype's own material; nothing of the abstract /Prototypes is drawn."""
+    color = rgb(render(tmp_path, "instanced_materials"))
+    warm, cool = np.float32([1, 0.5, 0.25]), np.float32([0.25, 0.5, 1])
+    for (x, y), colour in (((-0.6, 0.6), warm), ((0.6, -0.6), warm), ((0.6, 0.6), cool), ((-0.6, -0.6), cool)):
+        tile = region(color, max(x - 0.5, -1.2), min(x + 0.5, 1.2), max(y - 0.5, -1.2), min(y + 0.5, 1.2), inset=0)
+        assert np.abs(tile - colour).max() < 1e-6, (x, y)
+    assert area(color[..., 1]) == pytest.approx(4 * 1.0 * 0.5, abs=1e-4)  # green 0.5 on 4 unit tiles
+
+
+def window_of(width, height):
+    """camera_offsets.usda's window (left, top, pixel size) at width x height, expanded about its
+    centre (0.3, -0.2) to the image's aspect (renderer/camera.h's expandAperture)."""
+    aperture_w, aperture_h = 2.4, 1.625
+    if aperture_w / aperture_h < width / height:
+        aperture_w = aperture_h * width / height
+    else:
+        aperture_h = aperture_w * height / width
+    return 0.3 - aperture_w / 2, -0.2 + aperture_h / 2, aperture_w / width
+
+
+@pytest.mark.parametrize("resolution", [(240, 162), (240, 240)])
+def test_camera_aperture_offsets_and_conform(tmp_path, resolution):
+    """The rectangle x -0.5..1, y -0.75..0.25 lands where the offsets and the expanded window put it.
+    At 240 x 162 (usdrecord's size for this camera) the window's width grows 0.3% to the image's
+    aspect: the rectangle is 149.54 pixels wide, not the 150.0 of a stretched window. At 240 x 240
+    the height grows to 2.4 units. Noise: a row's width has two edge pixels, each of standard
+    deviation 0.5 / sqrt(SPP) pixels; its mean over R rows, 4 sigma, is 4 sqrt(2) 0.5 / sqrt(SPP R)."""
+    width, height = resolution
+    covered = render(tmp_path, "camera_offsets", "--resolution", width, height)["R"]
+    assert covered.shape == (height, width)
+    left, top, pixel = window_of(width, height)
+    rows = covered.sum(axis=1)
+    full = rows > 0.99 * rows.max()  # rows wholly inside the rectangle's height
+    row_width = rows[full].mean()
+    noise = 4 * math.sqrt(2) * 0.5 / math.sqrt(SPP * full.sum())
+    print(f"{width}x{height}: rectangle {row_width:.3f} pixels wide (expected {1.5 / pixel:.3f} +- {noise:.3f})")
+    assert row_width == pytest.approx(1.5 / pixel, abs=noise)
+    # Its centre (0.25, -0.25) in pixels, from the covered pixels' centroid. Noise: the edge pixels
+    # across x (two edges of h pixels, at +-w/2 from the centre, each EDGE_SIGMA) move the x centroid
+    # by EDGE_SIGMA (w / 2) sqrt(2 h) / area, and likewise in y; 4 sigma of the larger.
+    ys, xs = np.indices(covered.shape) + 0.5
+    total = covered.sum()
+    centre = ((covered * xs).sum() / total, (covered * ys).sum() / total)
+    expected = ((0.25 - left) / pixel, (top + 0.25) / pixel)
+    w, h = 1.5 / pixel, 1.0 / pixel
+    centre_noise = 4 * EDGE_SIGMA * max(w / 2 * math.sqrt(2 * h), h / 2 * math.sqrt(2 * w)) / (w * h)
+    print(f"centre {centre[0]:.3f}, {centre[1]:.3f} pixels (expected {expected[0]:.3f}, {expected[1]:.3f} "
+          f"+- {centre_noise:.3f})")
+    assert np.abs(np.subtract(centre, expected)).max() < centre_noise
+    perimeter = 2 * (1.5 + 1.0) / pixel
+    assert total * pixel ** 2 == pytest.approx(1.5, abs=4 * EDGE_SIGMA * math.sqrt(perimeter) * pixel ** 2)
