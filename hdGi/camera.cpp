@@ -1,5 +1,6 @@
 #include "camera.h"
 
+#include "gprim.h"
 #include "pxr/imaging/hd/changeTracker.h"
 #include "pxr/imaging/hd/renderIndex.h"
 #include "pxr/imaging/hd/sceneDelegate.h"
@@ -25,9 +26,9 @@ void HdGiCamera::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdD
         }
     }
     // Cameras sync before rprims: a changed interval resamples every rprim's motion in this sync.
+    // A custom bit (gprim.h): the scene index emulation drops scene-data bits marked this way.
     if (param->NoteShutter(GetId(), float(GetShutterOpen()), float(GetShutterClose())))
-        delegate->GetRenderIndex().GetChangeTracker().MarkAllRprimsDirty(HdChangeTracker::DirtyTransform |
-                                                                         HdChangeTracker::DirtyPoints);
+        delegate->GetRenderIndex().GetChangeTracker().MarkAllRprimsDirty(HdGiDirtyShutter);
 }
 
 std::vector<GfMatrix4d> HdGiCamera::MotionSteps() const {

@@ -38,7 +38,8 @@ bool HdGiGprimState::Sync(HdRprim& prim, HdSceneDelegate* delegate, HdGiRenderPa
         prim.SetMaterialId(delegate->GetMaterialId(id));
         changed = true;
     }
-    if (HdChangeTracker::IsTransformDirty(dirtyBits, id)) {
+    bool const resample = (dirtyBits & HdGiDirtyShutter) != 0;
+    if (HdChangeTracker::IsTransformDirty(dirtyBits, id) || resample) {
         transform = delegate->GetTransform(id);
         // The transform over the cameras' shutters: the interval's ends and the authored samples between.
         HdTimeSampleArray<GfMatrix4d, 4> samples;
@@ -58,7 +59,7 @@ bool HdGiGprimState::Sync(HdRprim& prim, HdSceneDelegate* delegate, HdGiRenderPa
         changed = true;
     }
     if (HdChangeTracker::IsInstancerDirty(dirtyBits, id) || HdChangeTracker::IsInstanceIndexDirty(dirtyBits, id) ||
-        HdChangeTracker::IsTransformDirty(dirtyBits, id) || !prim.GetInstancerId().IsEmpty()) {
+        HdChangeTracker::IsTransformDirty(dirtyBits, id) || resample || !prim.GetInstancerId().IsEmpty()) {
         instanced = HdGiRprimInstances(delegate, prim.GetInstancerId(), id, param.SamplingInterval(), &instances,
                                        &instanceTimes, &instanceSamples);
         changed = true;

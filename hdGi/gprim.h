@@ -45,5 +45,8 @@ HdDirtyBits HdGiGprimInitialDirtyBits();
 // MarkAllRprimsDirty drops scene-data bits such as DirtyPrimvar for prims the emulation does not
 // hold, which is every prim; custom bits reach the rprims directly (HdChangeTracker::MarkRprimDirty).
 constexpr HdDirtyBits HdGiDirtyUvPrimvar = HdChangeTracker::CustomBitsBegin;
+// The cameras' shutters changed (HdGiCamera::Sync): motion is sampled again over the new interval
+// (transforms, instances, points). Custom for the same reason.
+constexpr HdDirtyBits HdGiDirtyShutter = HdChangeTracker::CustomBitsBegin << 1;
 
 PXR_NAMESPACE_CLOSE_SCOPE

@@ -97,7 +97,7 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
                          HdChangeTracker::IsPrimvarDirty(bits, id, HdTokens->normals) ||
                          HdChangeTracker::IsSubdivTagsDirty(bits, id) || HdChangeTracker::IsDisplayStyleDirty(bits, id) ||
                          HdChangeTracker::IsAnyPrimvarDirty(bits, id) ||
-                         (bits & (HdChangeTracker::DirtyMaterialId | HdGiDirtyUvPrimvar));
+                         (bits & (HdChangeTracker::DirtyMaterialId | HdGiDirtyUvPrimvar | HdGiDirtyShutter));
     if (geometryDirty) {
         HdGiMeshInput input;
         input.topology = GetMeshTopology(delegate);
@@ -128,7 +128,7 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
         g->pieceMaterials = _pieceMaterials;
         _state.Publish(*this, param, std::move(g));
     }
-    *dirtyBits &= ~(HdChangeTracker::AllSceneDirtyBits | HdGiDirtyUvPrimvar);
+    *dirtyBits &= ~(HdChangeTracker::AllSceneDirtyBits | HdGiDirtyUvPrimvar | HdGiDirtyShutter);
 }
 
 void HdGiMesh::Finalize(HdRenderParam* renderParam) {

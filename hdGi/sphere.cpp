@@ -39,7 +39,7 @@ void HdGiSphere::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdD
         g->radius = _radius;
         _state.Publish(*this, param, std::move(g));
     }
-    *dirtyBits &= ~(HdChangeTracker::AllSceneDirtyBits | HdGiDirtyUvPrimvar);  // a sphere has no uvs to pick
+    *dirtyBits &= ~(HdChangeTracker::AllSceneDirtyBits | HdGiDirtyUvPrimvar | HdGiDirtyShutter);  // a sphere has no uvs to pick
 }
 
 void HdGiSphere::Finalize(HdRenderParam* renderParam) {

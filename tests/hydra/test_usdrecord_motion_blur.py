@@ -10,9 +10,10 @@ and a point instancer moved by velocities alone (its positions authored once); a
 whose positions are time-sampled blurs, as tested."""
 import sys
 
+import numpy as np
 import pytest
 
-from conftest import REPO, hdgi_errors, read_rgb, run_openusd
+from conftest import REPO, hdgi_errors, openusd_python, read_rgb, run_openusd
 
 sys.path.insert(0, str(REPO / "tests" / "python"))
 from test_motion_blur import (FRAME, RESOLUTION, SHUTTER, TRAVEL, WIDTH_TOLERANCE, analytic_variance,  # noqa: E402
@@ -50,3 +51,22 @@ def test_usdrecord_blurs_a_moving_object_to_the_analytic_width(tmp_path, kind):
     assert image.shape[:2] == (RESOLUTION[1], RESOLUTION[0])
     expected = width(analytic_variance(kind))
     assert abs(width(profile_variance(image)) - expected) / expected < WIDTH_TOLERANCE
+
+
+def test_a_shutter_edit_resamples_the_motion(tmp_path):
+    """In one session (one render index) the shutter opens, then closes again: the sphere is sharp
+    (its motion sampled at the frame only), then blurred to the analytic width (hdGi's camera
+    marked every rprim to sample its motion over the new interval), then sharp as at first, bit
+    for bit."""
+    scene = motion_stage(tmp_path / "moving.usda", "sphere")
+    script = REPO / "tests/hydra/scripts/record_shutter_edit.py"
+    shutters = ["0:0", f"{SHUTTER[0]}:{SHUTTER[1]}", "0:0"]
+    result = run_openusd([openusd_python(), str(script), str(scene), str(tmp_path), str(FRAME), str(RESOLUTION[0]),
+                          *shutters])
+    assert not hdgi_errors(result.stdout + result.stderr), result.stderr
+    sharp, blurred, again = (read_rgb(tmp_path / f"{i}.exr") for i in range(3))
+    still = width(analytic_variance("sphere", travel_px=0))
+    assert abs(width(profile_variance(sharp)) - still) / still < WIDTH_TOLERANCE
+    expected = width(analytic_variance("sphere"))
+    assert abs(width(profile_variance(blurred)) - expected) / expected < WIDTH_TOLERANCE
+    assert np.array_equal(sharp, again)
