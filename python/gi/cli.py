@@ -97,19 +97,23 @@ def add_render_parser(commands, flags):
     render.add_argument("-o", "--output",
                         help="EXR path (default: every RenderProduct of the render settings, each with its "
                              "productName and RenderVars; without any, out/<scene name>.exr)")
-    render.add_argument("--integrator", default="path", choices=sorted(flags.owners) or None,
-                        help="light transport technique (default: path)")
+    render.add_argument("--integrator", choices=sorted(flags.owners) or None,
+                        help="light transport technique (default: the render settings' gi:integrator, else path)")
     presets = preset_catalog()
     render.add_argument("--preset", choices=[p["name"] for p in presets] or None,
                         help="a named parameter set under the flags given: " +
                              "; ".join(f"{p['name']}: {p['description']}" for p in presets) +
-                             " (default: none, the integrator's defaults: unbounded depths)")
-    render.add_argument("--spp", type=positive_int, default=16, help="camera samples per pixel (default 16)")
-    render.add_argument("--seed", type=int, default=0, help="sampler seed (default 0); renders are deterministic")
+                             " (default: the render settings' gi:preset, else none: the integrator's defaults, "
+                             "unbounded depths)")
+    render.add_argument("--spp", type=positive_int,
+                        help="camera samples per pixel (default: the render settings' gi:samples, else 16)")
+    render.add_argument("--seed", type=int,
+                        help="sampler seed (default: the render settings' gi:seed, else 0); renders are deterministic")
     render.add_argument("--threads", type=int, default=0, help="worker threads (default 0 = all cores)")
-    render.add_argument("--time-limit", type=float, default=0.0, metavar="S",
-                        help="end the render, preprocessing included, within S seconds (default 0 = none; "
-                             "with --integrator auto, the budget the technique is chosen for)")
+    render.add_argument("--time-limit", type=float, metavar="S",
+                        help="end the render, preprocessing included, within S seconds (default: the render "
+                             "settings' gi:timeLimit, else 0 = none; with --integrator auto, the budget the "
+                             "technique is chosen for)")
     render.add_argument("--resolution", type=positive_int, nargs=2, metavar=("W", "H"),
                         help="image size (default: the stage's render settings, else 512 512)")
     render.add_argument("--camera", metavar="PRIM", help="camera prim path (default: the render settings' camera)")

@@ -90,23 +90,43 @@ def name_number(frame, sequence):
     return int(sequence.time_range[0]) if sequence.time_range else 0
 
 
+# What `gi render` uses when neither a flag nor the stage's render settings say.
+RENDER_DEFAULTS = {"integrator": "path", "spp": 16, "seed": 0, "time_limit": 0.0, "preset": None}
+
+
+def apply_stage_settings(args, sequence):
+    """Fills the render flags not given with the render settings prim's gi: settings (as hdGi
+    reads them), else RENDER_DEFAULTS; returns the stage's integrator parameters
+    ({integrator: {parameter: value}}), which the flags given override."""
+    from .products import settings_prim
+    from .render import integrator_catalog
+    from .stage_settings import read_stage_settings
+    settings = settings_prim(sequence.stage, args.settings, sequence.path)
+    found = read_stage_settings(settings, integrator_catalog(), lambda message: warn(f"{sequence.path}: {message}"))
+    for dest, default in RENDER_DEFAULTS.items():
+        if getattr(args, dest) is None:
+            setattr(args, dest, found.values.get(dest, default))
+    return found.params
+
+
 def cmd_render(args, flags, parser):
     from .frames import frame_seed
     from .loader import camera_at
     from .sequence import Sequence
     from .tiles import tile_window, why_tiles_differ
-    params = flags.chosen(args, parser)
+    frames = args.frames or [None]
+    sequence = Sequence(args.scene, frames, camera=args.camera, allow_missing=args.allow_missing,
+                        refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity])
+    for message in sequence.warnings:
+        warn(message)
+    stage_params = apply_stage_settings(args, sequence)
+    params = {**stage_params.get(args.integrator, {}), **flags.chosen(args, parser)}
     if args.tile and why_tiles_differ(args):
         parser.error(f"--tile with {why_tiles_differ(args)}")
     denoiser = None
     if args.denoise:  # before rendering: a missing denoiser must not cost a render first
         from .denoise import open_denoiser
         denoiser = open_denoiser(args.threads)
-    frames = args.frames or [None]
-    sequence = Sequence(args.scene, frames, camera=args.camera, allow_missing=args.allow_missing,
-                        refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity])
-    for message in sequence.warnings:
-        warn(message)
     targets = render_targets(args, parser, sequence)
     if denoiser is not None and any(target.product is not None for target in targets):
         warn("--denoise denoises the -o image; the RenderProducts are written undenoised")
