@@ -11,6 +11,8 @@ jobs=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
 
 if [ ! -f "$build/CMakeCache.txt" ]; then
   launcher=()
+  # Paths relative to the checkout in ccache's keys: a fresh clone elsewhere reuses the cache.
+  export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD}
   command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   generator=()
   command -v ninja >/dev/null && generator=(-G Ninja)
