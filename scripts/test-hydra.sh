@@ -8,8 +8,9 @@ cd "$(dirname "$0")/.."
 openusd=${1:-${GI_OPENUSD_ROOT:-/opt/openusd}}
 build=build/hydra
 launcher=()
-# Paths relative to the checkout in ccache's keys: a fresh clone elsewhere reuses the cache.
-export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD}
+# Paths relative to the checkout in ccache's keys (and not the build folder's, which -g would
+# add): a fresh clone elsewhere reuses the cache.
+export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD} CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-1}
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 # The venv's pyoidn (Open Image Denoise), if any, becomes the plugin's default place to load it from
 # for gi:denoise (renderer/oidn_library.h); this build's own Python is OpenUSD's, without pyoidn.

@@ -11,8 +11,9 @@ jobs=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
 
 if [ ! -f "$build/CMakeCache.txt" ]; then
   launcher=()
-  # Paths relative to the checkout in ccache's keys: a fresh clone elsewhere reuses the cache.
-  export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD}
+  # Paths relative to the checkout in ccache's keys (and not the build folder's, which -g would
+  # add): a fresh clone elsewhere reuses the cache.
+  export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD} CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-1}
   command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   generator=()
   command -v ninja >/dev/null && generator=(-G Ninja)
