@@ -50,8 +50,9 @@ def thesis_study(tmp_path_factory):
     table, results = read_csv(out / "thesis.csv"), read_csv(out / "results.csv")
     report = (out / "report.md").read_text()
     reference_meta = _core.read_image(str(out / "reference.exr"))[1]
+    # --reference-seconds so that a reference rendered again (not reused) costs seconds and fails below.
     second = run_gi("study", "--thesis", "caixa", CORNELL, "--resolution", *SIZE, "--spp", 32,
-                    "--integrators", "path", "-o", out)
+                    "--integrators", "path", "--reference-seconds", 3, "-o", out)
     return {"out": out, "table": table, "results": results, "report": report, "reference_meta": reference_meta,
             "first": first.stdout, "second": second.stdout, "table_32": read_csv(out / "thesis.csv")}
 
@@ -117,9 +118,11 @@ def test_numbers_are_measured(thesis_study):
     path_32 = thesis_study["table_32"]
     assert [row["technique"] for row in path_32] == ["path tracing"] and path_32[0]["spp"] == "32"
     assert float(path_32[0]["rmse_srgb8"]) == pytest.approx(metrics.rmse_srgb8(render, reference), rel=1e-9)
-    # Measured at 48x36: path tracing 4 spp ~9.7, 32 spp ~4.5 sRGB8 codes (noise falls as 1/sqrt(spp)
-    # down to the reference's own noise and the depth-5 bias); asking for a third less is far from both.
-    assert float(path_32[0]["rmse_srgb8"]) < 0.67 * float(by_technique["path tracing"]["rmse_srgb8"])
+    # Measured at 48x36: path tracing 4 spp 9.7, 32 spp 4.7 sRGB8 codes against a 3-s reference of 1258 spp
+    # whose own noise is 2.7 codes. The render's noise n falls as 1/sqrt(spp) (n4 ~ 9.3, n32 ~ 3.3) and the
+    # RMSE is ~sqrt(n^2 + f^2) with f the reference's noise, so the ratio stays under 0.75 while
+    # f < 9 codes (0.77 at f = 10): a reference of ~110 spp, 11x fewer than measured (a machine 11x busier).
+    assert float(path_32[0]["rmse_srgb8"]) < 0.75 * float(by_technique["path tracing"]["rmse_srgb8"])
     assert float(path_32[0]["flip"]) < float(by_technique["path tracing"]["flip"])
 
 
