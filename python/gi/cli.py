@@ -243,7 +243,7 @@ def add_thesis_options(study):
         f"parameters ({THESIS_RESOLUTION[0]}x{THESIS_RESOLUTION[1]} unless --resolution; preset thesis / "
         "thesis-sibenik) against a path-traced reference it renders into the output "
         "folder (reference.exr, reused by later runs), and writes thesis.csv and the table beside the thesis's "
-        "RMSE (tables 4.4, 4.12) into report.md")
+        "RMSE (tables 4.4, 4.12) into report.md; no denoised rows unless --denoise")
     thesis.add_argument("--thesis", choices=sorted(SCENES),
                         help="; ".join(f"{key}: {s.thesis_name}, {s.scene}, preset {s.preset}, table {s.rmse_table}"
                                        for key, s in SCENES.items()))

@@ -162,14 +162,10 @@ def run_thesis_study(key, output, scene=None, resolution=None, spp=THESIS_SPP, r
     runs = thesis_runs(thesis, core.presets(), core.integrators(), spp, integrators)
     check_runs(runs, core.integrators())
     reference = reference or ensure_reference(scene, output, resolution, reference_seconds, seed, threads, log)
-    records = []
-
-    def table(rows):
-        made, records[:] = side_by_side(thesis, rows)
-        return [made]
-
     study = run_study(scene, reference, runs, output, resolution, seed, threads, show_progress=sys.stderr.isatty(),
-                      log=log, denoise=denoise_choice(denoise, runs) or [], lead_tables=table)
+                      log=log, denoise=denoise_choice(denoise, runs) or [],
+                      lead_tables=lambda rows: [side_by_side(thesis, rows)[0]])
+    records = side_by_side(thesis, study.rows[1:])[1]
     write_table(Path(output) / TABLE_FILE, records)
     return study, records
 
