@@ -173,6 +173,13 @@ def add_reference_parser(commands):
     add_common_render_options(reference)
 
 
+def positive_float(text):
+    value = float(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"{text} is not a positive number")
+    return value
+
+
 def frame_range(text):
     from .frames import parse_frames
     try:
@@ -217,8 +224,8 @@ def add_study_parser(commands, flags):
         description="Renders every integrator at each time budget (or each run of a parameter table) and "
                     "writes results.csv, error_vs_time.png, the renders, difference images and "
                     "report.md / report.html into the output folder.")
-    study.add_argument("scene", help="a USD file")
-    study.add_argument("--reference", required=True, help="reference EXR (e.g. from `gi reference`)")
+    study.add_argument("scene", nargs="?", help="a USD file (with --thesis: default the thesis scene's)")
+    study.add_argument("--reference", help="reference EXR (e.g. from `gi reference`; required without --thesis)")
     study.add_argument("--integrators", type=comma_list,
                        help=f"comma-separated (default: all: {', '.join(sorted(flags.owners)) or 'none built'})")
     runs = study.add_mutually_exclusive_group()
@@ -230,6 +237,24 @@ def add_study_parser(commands, flags):
                             "Denoise), or 'none' (default: path and photonMapFinalGather when the study has them; "
                             "skipped with a warning without pyoidn)")
     add_common_render_options(study, "the reference's")
+    add_thesis_options(study)
+
+
+def add_thesis_options(study):
+    from .thesis import DEFAULT_REFERENCE_SECONDS, SCENES, THESIS_RESOLUTION, THESIS_SPP
+    thesis = study.add_argument_group(
+        "the thesis's tables", "--thesis SCENE renders the thesis's five techniques at its resolution, samples and "
+        f"parameters ({THESIS_RESOLUTION[0]}x{THESIS_RESOLUTION[1]} unless --resolution; preset thesis / "
+        "thesis-sibenik) against a path-traced reference it renders into the output "
+        "folder (reference.exr, reused by later runs), and writes thesis.csv and the table beside the thesis's "
+        "RMSE (tables 4.4, 4.12) into report.md; no denoised rows unless --denoise")
+    thesis.add_argument("--thesis", choices=sorted(SCENES),
+                        help="; ".join(f"{key}: {s.thesis_name}, {s.scene}, preset {s.preset}, table {s.rmse_table}"
+                                       for key, s in SCENES.items()))
+    thesis.add_argument("--spp", type=positive_int,
+                        help=f"camera samples per pixel of every run (default {THESIS_SPP}, the thesis's)")
+    thesis.add_argument("--reference-seconds", type=positive_float, metavar="S",
+                        help=f"time for the reference when there is none to reuse (default {DEFAULT_REFERENCE_SECONDS:g})")
 
 
 def add_import_parser(commands):

@@ -51,11 +51,16 @@ def _srgb_oetf(x: np.ndarray) -> np.ndarray:
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
 
 
-def srgb8(img) -> np.ndarray:
-    """8-bit sRGB codes: clamp to [0, 1], OETF, * 255, round (spec section 7)."""
+def srgb_encode(img) -> np.ndarray:
+    """Linear RGB on the display scale, unrounded: clamp to [0, 1], OETF (0..1)."""
     # NaN has no place on a display scale; show it as black (has_nan_or_inf reports it).
     x = np.clip(np.nan_to_num(_rgb(img), nan=0.0), 0.0, 1.0)
-    return np.rint(_srgb_oetf(x) * 255.0).astype(np.uint8)
+    return _srgb_oetf(x)
+
+
+def srgb8(img) -> np.ndarray:
+    """8-bit sRGB codes: clamp to [0, 1], OETF, * 255, round (spec section 7)."""
+    return np.rint(srgb_encode(img) * 255.0).astype(np.uint8)
 
 
 def rmse_srgb8(img, ref) -> float:

@@ -88,6 +88,19 @@ class BatchAccumulator:
             return float("inf")
         return float(np.sqrt(np.mean(error ** 2)) / image_mean)
 
+    def srgb8_standard_error(self):
+        """The image's own noise on the 0-255 sRGB scale of gi.metrics.rmse_srgb8: RMS over pixels and
+        channels of each value's standard error carried through the display encoding (a central
+        difference of the clamped sRGB curve over +-1 standard error). An image scored against this
+        reference has RMSE^2 ~ its own error^2 + this^2, so this is the floor the reference puts
+        under every RMSE it measures."""
+        from .metrics import srgb_encode
+        mean, error = weighted_standard_error(self._sum, self._square_sum, self.samples, self.batches)
+        if not np.isfinite(error).all():
+            return float("inf")
+        spread = srgb_encode(mean + error) - srgb_encode(mean - error)
+        return float(255.0 * np.sqrt(np.mean((spread / 2.0) ** 2)))
+
 
 def batch_seeds(seed):
     """Independent sampler seeds for successive batches, derived from the user's seed.
@@ -110,6 +123,7 @@ class Reference:
     seconds: float
     relative_standard_error: float
     pixel_relative_standard_error: float
+    srgb8_standard_error: float  # the image's noise in 8-bit sRGB codes (BatchAccumulator.srgb8_standard_error)
     stopped_by: str             # 'target' | 'time'
     camera_path: str
     non_finite_samples: int     # samples the renderer replaced (NaN, Inf, negative), all batches
@@ -189,36 +203,51 @@ def render_reference(scene_path, max_seconds=3600.0, target_error=0.002, resolut
         progress.close()
     return Reference(accumulator.image(), accumulator.samples, accumulator.batches, progress.elapsed(),
                      accumulator.relative_standard_error(), accumulator.pixel_relative_standard_error(),
-                     reason, loaded.camera_path, non_finite)
+                     accumulator.srgb8_standard_error(), reason, loaded.camera_path, non_finite)
 
 
 # -- the command ---------------------------------------------------------------------------------
 
-def reference_metadata(args, reference):
-    return {"gi:version": __version__, "gi:scene": str(args.scene), "gi:camera": reference.camera_path,
+def reference_metadata(scene, reference, seed, target_error, max_seconds):
+    return {"gi:version": __version__, "gi:scene": str(scene), "gi:camera": reference.camera_path,
             "gi:integrator": INTEGRATOR, "gi:params": json.dumps({}), "gi:reference": "1",
-            "gi:spp": str(reference.spp), "gi:seed": str(args.seed), "gi:batches": str(reference.batches),
+            "gi:spp": str(reference.spp), "gi:seed": str(seed), "gi:batches": str(reference.batches),
             "gi:seconds": f"{reference.seconds:.3f}",
             "gi:relative_standard_error": f"{reference.relative_standard_error:.6g}",
             "gi:pixel_relative_standard_error": f"{reference.pixel_relative_standard_error:.6g}",
-            "gi:target_error": f"{args.target_error:g}", "gi:max_seconds": f"{args.max_seconds:g}",
+            "gi:srgb8_standard_error": f"{reference.srgb8_standard_error:.6g}",
+            "gi:target_error": f"{target_error:g}", "gi:max_seconds": f"{max_seconds:g}",
             "gi:stopped_by": reference.stopped_by, "gi:non_finite_samples": str(reference.non_finite_samples),
             "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
 
 
-def cmd_reference(args):
+def make_reference(scene, output, max_seconds, target_error, resolution=None, seed=0, threads=0, camera=None,
+                   show_progress=False):
+    """Renders a reference (render_reference) and writes it with its metadata to `output`; returns it."""
     from .render import require_core
-    if args.target_error <= 0:
-        raise ValueError(f"--target-error must be positive, got {args.target_error}")
-    reference = render_reference(args.scene, args.max_seconds, args.target_error,
-                                 tuple(args.resolution) if args.resolution else None, args.seed,
-                                 args.threads, args.camera, show_progress=sys.stderr.isatty())
-    output = Path(args.output)
+    if target_error <= 0:
+        raise ValueError(f"--target-error must be positive, got {target_error}")
+    reference = render_reference(scene, max_seconds, target_error, tuple(resolution) if resolution else None,
+                                 seed, threads, camera, show_progress)
+    output = Path(output)
     output.parent.mkdir(parents=True, exist_ok=True)
-    require_core().write_rgb_exr(str(output), reference.color, reference_metadata(args, reference))
+    require_core().write_rgb_exr(str(output), reference.color,
+                                 reference_metadata(scene, reference, seed, target_error, max_seconds))
+    return reference
+
+
+def cmd_reference(args):
+    reference = make_reference(args.scene, args.output, args.max_seconds, args.target_error, args.resolution,
+                               args.seed, args.threads, args.camera, show_progress=sys.stderr.isatty())
+    print(f"{args.scene}: {summary(reference, args.target_error)} -> {args.output}")
+    return 0
+
+
+def summary(reference, target_error):
+    """One line: size, spp, batches, time, error estimate and why it stopped."""
     height, width = reference.color.shape[:2]
     outcome = "target reached" if reference.stopped_by == "target" else "time limit"
-    print(f"{args.scene}: {width}x{height} reference, {reference.spp} spp in {reference.batches} batches, "
-          f"{reference.seconds:.2f} s; relative standard error of the mean "
-          f"{reference.relative_standard_error:.4g} (target {args.target_error:g}, {outcome}) -> {output}")
-    return 0
+    return (f"{width}x{height} reference, {reference.spp} spp in {reference.batches} batches, "
+            f"{reference.seconds:.2f} s; relative standard error of the mean "
+            f"{reference.relative_standard_error:.4g} (target {target_error:g}, {outcome}), "
+            f"its noise {reference.srgb8_standard_error:.2f} sRGB8 codes")

@@ -98,9 +98,10 @@ def metric_table(title, rows):
 def reference_table(study):
     meta, check = study.reference_meta, study.rows[0]
     headers = ["reference", "spp", "seconds", "rel. std. error of mean", "pixel rel. std. error",
-               "RMSE sRGB8 vs itself", "FLIP vs itself"]
+               "its noise, sRGB8 codes", "RMSE sRGB8 vs itself", "FLIP vs itself"]
     cells = [[Path(study.reference_path).name, meta.get("gi:spp", ""), meta.get("gi:seconds", ""),
               meta.get("gi:relative_standard_error", ""), meta.get("gi:pixel_relative_standard_error", ""),
+              number(meta.get("gi:srgb8_standard_error", ""), ".2f"),
               number(check["rmse_srgb8"], ".2f"), number(check["flip"], ".4f")]]
     return "Reference", headers, cells
 
@@ -127,7 +128,8 @@ def stats_table(study):
 
 
 def all_tables(study):
-    tables = [reference_table(study)] + [metric_table(title, rows) for title, rows in groups(study)]
+    tables = study.lead_tables + [reference_table(study)]
+    tables += [metric_table(title, rows) for title, rows in groups(study)]
     return tables + [t for t in (rmse_by_budget_table(study), stats_table(study)) if t]
 
 

@@ -88,6 +88,7 @@ class StudyResult:
     output: Path
     files: dict = field(default_factory=dict)  # label -> {'exr', 'png', 'difference'} relative to output
     threads: int = 0              # render threads asked for (0 = all)
+    lead_tables: list = field(default_factory=list)  # (title, headers, cells) shown before the others
 
 
 # -- planning runs -------------------------------------------------------------------------------
@@ -334,9 +335,10 @@ def progress_line(row):
 
 
 def run_study(scene, reference_path, runs, output, resolution=None, seed=0, threads=0, camera=None,
-              show_progress=False, log=print, denoise=None):
+              show_progress=False, log=print, denoise=None, lead_tables=None):
     """Renders every run, scores it against the reference, writes everything; returns a StudyResult.
-    denoise: the integrators whose runs also get a denoised row (see study_denoiser)."""
+    denoise: the integrators whose runs also get a denoised row (see study_denoiser). lead_tables:
+    rows -> [(title, headers, cells)], tables the reports show first (e.g. gi.thesis's)."""
     from .denoise import denoise_metadata, denoise_result
     from tqdm import tqdm
 
@@ -372,7 +374,7 @@ def run_study(scene, reference_path, runs, output, resolution=None, seed=0, thre
     require_core().write_png(str(output / "reference.png"), reference)
     scale = write_difference_images(colors, reference, output, files)
     study = StudyResult(str(scene), str(reference_path), meta, size, rows, stat_columns(rows), scale, output,
-                        files, threads)
+                        files, threads, lead_tables(rows[1:]) if lead_tables else [])
     write_reports(study)
     return study
 
@@ -393,6 +395,13 @@ def denoise_choice(text, runs):
 
 def cmd_study(args):
     from .render import require_core
+    if args.thesis:
+        from .thesis import cmd_thesis_study
+        return cmd_thesis_study(args)
+    if args.spp is not None or args.reference_seconds is not None:
+        raise ValueError("--spp and --reference-seconds belong to --thesis (a params file sets each run's spp)")
+    if not args.scene or not args.reference:
+        raise ValueError("gi study needs a scene and --reference (or --thesis caixa|sibenik)")
     runs = plan_runs(args, require_core().integrators())
     study = run_study(args.scene, args.reference, runs, args.output, args.resolution, args.seed, args.threads,
                       args.camera, show_progress=sys.stderr.isatty(), denoise=denoise_choice(args.denoise, runs))
