@@ -2,7 +2,6 @@
 Open Job Description bundle that `openjd check` accepts and `openjd run` renders into the frames a
 single `gi render --frames` writes, bit for bit; failures name the task, the file or the flag."""
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
