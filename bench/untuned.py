@@ -16,7 +16,6 @@ and the records or photons. Figures are from one run on a shared machine: compar
     (an integrator may carry parameters: photonMapFinalGather:gatherBounces=0; separate those with ';')
 """
 import argparse
-import sys
 import time
 from pathlib import Path
 
