@@ -6,6 +6,7 @@
 #include "pxr/imaging/hd/sceneDelegate.h"
 #include "pxr/imaging/hd/timeSampleArray.h"
 #include "renderParam.h"
+#include "sceneStore.h"
 #include "renderer/motion.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
@@ -33,16 +34,10 @@ void HdGiCamera::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdD
 
 std::vector<GfMatrix4d> HdGiCamera::MotionSteps() const {
     std::vector<GfMatrix4d> steps;
-    float open = float(GetShutterOpen()), close = float(GetShutterClose());
-    if (_motionTimes.size() < 2 || !(close > open)) return steps;
-    std::vector<float> times{open, close};
-    for (float t : _motionTimes)
-        if (t > open && t < close) times.push_back(t);
+    if (_motionTimes.size() < 2) return steps;
     bool moves = false;
-    for (float t : gi::evenStepTimes(times)) {
-        steps.push_back(gi::sampleAt(_motionTimes, _motionSamples, t, [](GfMatrix4d const& a, GfMatrix4d const& b, float f) {
-            return a * double(1 - f) + b * double(f);
-        }));
+    for (float t : gi::shutterStepTimes(float(GetShutterOpen()), float(GetShutterClose()), {&_motionTimes})) {
+        steps.push_back(gi::sampleAt(_motionTimes, _motionSamples, t, HdGiLerp));
         moves = moves || steps.back() != steps.front();
     }
     if (!moves) steps.clear();

@@ -128,6 +128,12 @@ namespace {
 
 HdGiRenderBuffer* BufferOf(HdRenderPassAovBinding const& aov) { return dynamic_cast<HdGiRenderBuffer*>(aov.renderBuffer); }
 
+// The film's shape or instance ids as Hydra's (prim ids, instance indices); -1 where none.
+std::vector<int32_t> HydraIds(std::vector<int32_t> ids, std::vector<int> const& map) {
+    for (int32_t& id : ids) id = id >= 0 && size_t(id) < map.size() ? map[size_t(id)] : -1;
+    return ids;
+}
+
 // Camera-space depth to Hydra's clip-space depth in [0, 1] (row-vector projection matrix).
 float ClipDepth(GfMatrix4d const& p, float viewDepth) {
     double z = -viewDepth;
@@ -155,20 +161,15 @@ std::vector<float> HdGiRenderSession::_Color(gi::Film const& film, HdGiRenderJob
 
 void HdGiRenderSession::_WriteProducts(gi::Renderer const& renderer, HdGiRenderJob const& job) {
     gi::Film const& film = renderer.film();
-    auto ids = [](std::vector<int32_t> const& in, std::vector<int> const& map) {
-        std::vector<float> out(in.size());
-        for (size_t i = 0; i < in.size(); ++i)
-            out[i] = float(in[i] >= 0 && size_t(in[i]) < map.size() ? map[size_t(in[i])] : -1);
-        return out;
-    };
+    auto ids = [](std::vector<int32_t> const& hydraIds) { return std::vector<float>(hydraIds.begin(), hydraIds.end()); };
     HdGiOutputPixels pixels = [&](gi::RenderOutput output) -> std::vector<float> {
         switch (output) {
             case gi::RenderOutput::Color: return _Color(film, job, true);
             case gi::RenderOutput::Depth: return film.depth();
             case gi::RenderOutput::Normal: return film.normal();
             case gi::RenderOutput::Albedo: return film.albedo();
-            case gi::RenderOutput::PrimId: return ids(film.shapeIds(), _ids.shapePrimId);
-            case gi::RenderOutput::InstanceId: return ids(film.instanceIds(), _ids.instanceIndex);
+            case gi::RenderOutput::PrimId: return ids(HydraIds(film.shapeIds(), _ids.shapePrimId));
+            case gi::RenderOutput::InstanceId: return ids(HydraIds(film.instanceIds(), _ids.instanceIndex));
         }
         return {};
     };
@@ -205,15 +206,9 @@ void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob c
         } else if (name == TfToken("albedo")) {
             buffer->WriteFloats(film.albedo().data(), 3, window, 0.0f);
         } else if (name == HdAovTokens->primId) {
-            std::vector<int32_t> ids = film.shapeIds();
-            for (int32_t& id : ids)
-                id = id >= 0 && size_t(id) < _ids.shapePrimId.size() ? _ids.shapePrimId[size_t(id)] : -1;
-            buffer->WriteInts(ids.data(), window);
+            buffer->WriteInts(HydraIds(film.shapeIds(), _ids.shapePrimId).data(), window);
         } else if (name == HdAovTokens->instanceId) {
-            std::vector<int32_t> ids = film.instanceIds();
-            for (int32_t& id : ids)
-                id = id >= 0 && size_t(id) < _ids.instanceIndex.size() ? _ids.instanceIndex[size_t(id)] : -1;
-            buffer->WriteInts(ids.data(), window);
+            buffer->WriteInts(HydraIds(film.instanceIds(), _ids.instanceIndex).data(), window);
         }
         // Anything else (elementId, unsupported AOVs) keeps its clear value.
         buffer->SetConverged(converged);

@@ -93,20 +93,11 @@ private:
 gi::MotionSteps MotionOf(HdGiGeometry const& g, HdGiTriangleMesh const* mesh, int prototype, GfVec2f shutter) {
     bool moves = prototype < 0 && g.transformTimes.size() > 1;
     bool deforms = mesh && mesh->pointTimes.size() > 1;
-    if (!(moves || deforms) || !(shutter[1] > shutter[0])) return {};
-    std::vector<float> times{shutter[0], shutter[1]};
-    auto addInside = [&](std::vector<float> const& sampleTimes) {
-        for (float t : sampleTimes)
-            if (t > shutter[0] && t < shutter[1]) times.push_back(t);
-    };
-    if (moves) addInside(g.transformTimes);
-    if (deforms) addInside(mesh->pointTimes);
     gi::MotionSteps motion;
-    for (float t : gi::evenStepTimes(times)) {
-        if (moves)
-            motion.transforms.push_back(HdGiToMat4(gi::sampleAt(
-                g.transformTimes, g.transformSamples, t,
-                [](GfMatrix4d const& a, GfMatrix4d const& b, float f) { return a * double(1 - f) + b * double(f); })));
+    if (!moves && !deforms) return motion;
+    for (float t : gi::shutterStepTimes(shutter[0], shutter[1], {moves ? &g.transformTimes : nullptr,
+                                                                 deforms ? &mesh->pointTimes : nullptr})) {
+        if (moves) motion.transforms.push_back(HdGiToMat4(gi::sampleAt(g.transformTimes, g.transformSamples, t, HdGiLerp)));
         if (deforms)
             motion.points.push_back(gi::sampleAt(mesh->pointTimes, mesh->pointSamples, t,
                                                  [](std::vector<gi::Vec3> const& a, std::vector<gi::Vec3> const& b, float f) {
@@ -118,19 +109,18 @@ gi::MotionSteps MotionOf(HdGiGeometry const& g, HdGiTriangleMesh const* mesh, in
     return motion;
 }
 
-// Instance `i`'s motion over the rendering camera's shutter, as MotionOf's transform steps.
-gi::MotionSteps InstanceMotionOf(HdGiGeometry const& g, size_t i, GfVec2f shutter) {
-    if (g.instanceTimes.size() < 2 || !(shutter[1] > shutter[0])) return {};
-    std::vector<float> times{shutter[0], shutter[1]};
-    for (float t : g.instanceTimes)
-        if (t > shutter[0] && t < shutter[1]) times.push_back(t);
-    std::vector<GfMatrix4d> path;
-    for (std::vector<GfMatrix4d> const& sample : g.instanceSamples) path.push_back(i < sample.size() ? sample[i] : GfMatrix4d(1.0));
-    gi::MotionSteps motion;
-    for (float t : gi::evenStepTimes(times))
-        motion.transforms.push_back(HdGiToMat4(gi::sampleAt(
-            g.instanceTimes, path, t,
-            [](GfMatrix4d const& a, GfMatrix4d const& b, float f) { return a * double(1 - f) + b * double(f); })));
+// Each instance's motion over the rendering camera's shutter, as MotionOf's transform steps (empty
+// when the instances do not move).
+std::vector<gi::MotionSteps> InstanceMotionOf(HdGiGeometry const& g, GfVec2f shutter) {
+    std::vector<gi::MotionSteps> motion(g.instanceTransforms.size());
+    if (g.instanceTimes.size() < 2) return motion;
+    std::vector<float> const steps = gi::shutterStepTimes(shutter[0], shutter[1], {&g.instanceTimes});
+    std::vector<GfMatrix4d> path(g.instanceTimes.size());
+    for (size_t i = 0; i < motion.size(); ++i) {
+        for (size_t k = 0; k < path.size(); ++k)
+            path[k] = i < g.instanceSamples[k].size() ? g.instanceSamples[k][i] : g.instanceTransforms[i];
+        for (float t : steps) motion[i].transforms.push_back(HdGiToMat4(gi::sampleAt(g.instanceTimes, path, t, HdGiLerp)));
+    }
     return motion;
 }
 
@@ -197,9 +187,10 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         int prototype = scene->addPrototype(g->name);
         std::vector<int> shapes = AddShapes(*scene, *g, binder, HdGiToMat4(g->transform), prototype, shutter);
         for (int shape : shapes) Record(map.shapePrimId, shape, g->primId);
+        std::vector<gi::MotionSteps> const motion = InstanceMotionOf(*g, shutter);
         for (size_t i = 0; i < g->instanceTransforms.size(); ++i) {
             int instance = scene->addInstance(prototype, HdGiToMat4(g->instanceTransforms[i]),
-                                              g->name + "[" + std::to_string(i) + "]", InstanceMotionOf(*g, i, shutter));
+                                              g->name + "[" + std::to_string(i) + "]", motion[i]);
             Record(map.instanceIndex, instance, int(i));
         }
     }

@@ -96,5 +96,7 @@ private:
 };
 
 gi::Mat4 HdGiToMat4(GfMatrix4d const& m);
+// Matrices between motion samples, entry by entry (as Embree interpolates instance transforms).
+inline GfMatrix4d HdGiLerp(GfMatrix4d const& a, GfMatrix4d const& b, float f) { return a * double(1 - f) + b * double(f); }
 
 PXR_NAMESPACE_CLOSE_SCOPE

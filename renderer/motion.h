@@ -5,6 +5,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <vector>
 
 #include "math.h"
@@ -86,6 +87,21 @@ inline std::vector<float> evenStepTimes(std::vector<float> times) {
     for (size_t i = 0; i <= segments; ++i) grid[i] = times.front() + span * float(i) / float(segments);
     grid.back() = times.back();
     return grid;
+}
+
+// The steps over a shutter [open, close] (times relative to the frame) of motion sampled at the
+// times of each of `series` (a host samples over a wider interval than one camera's shutter):
+// the shutter's ends and the samples strictly inside it, through evenStepTimes. Empty when the
+// shutter does not open.
+inline std::vector<float> shutterStepTimes(float open, float close,
+                                           std::initializer_list<const std::vector<float>*> series) {
+    if (!(close > open)) return {};
+    std::vector<float> times{open, close};
+    for (const std::vector<float>* s : series)
+        if (s)
+            for (float t : *s)
+                if (t > open && t < close) times.push_back(t);
+    return evenStepTimes(std::move(times));
 }
 
 // The value at `t` of samples at increasing `times`, interpolated linearly by lerp(a, b, fraction)
