@@ -86,11 +86,11 @@ def test_pause_and_stop_within_100_ms(session):
     print(f"render thread's last tile after pause: {results['pause_latency'] * 1000:.0f} ms "
           f"(last tile before it {results['pause_idle'] * 1000:.0f} ms earlier), after stop: "
           f"{results['stop_latency'] * 1000:.0f} ms (before it {results['stop_idle'] * 1000:.0f} ms)")
-    # The thread was rendering when asked (a tile ended within 0.5 s before the request; an idle
-    # thread, converged 1.5 s earlier, would make any latency pass), and its last tile ended
-    # within 100 ms after.
+    # The thread was rendering when asked (a tile ended within 0.5 s before the request, or just
+    # after it, before the script read the stats: slightly negative; an idle thread, converged
+    # 1.5 s earlier, would make any latency pass), and its last tile ended within 100 ms after.
     for what in ("pause", "stop"):
-        assert 0 <= results[f"{what}_idle"] < 0.5, results
+        assert results[f"{what}_idle"] < 0.5, results
         assert results[f"{what}_latency"] < 0.1, results
 
 
