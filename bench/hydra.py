@@ -2,7 +2,11 @@
 Hydra's sync (the first Render call), hdGi's scene build (Embree BVH included) and time to first
 pixel, and the wall time of a converged render through UsdImagingGL (usdrecord's engine) against
 `gi render` with the same integrator, samples, seed and resolution; the ratio is the cost of the
-Hydra path (target: at most 1.10). Needs the OpenUSD build and the plugin (scripts/test-hydra.sh).
+Hydra path (target: at most 1.10). Then, per scene, an interactive edit: the stage's first mesh
+moved three times in one session, with the scene build, the BVH primitives built and kept, and the
+time to the first new pass after each move (the first move gathers what did not move into one
+static BVH; later moves build the moved mesh alone). Needs the OpenUSD build and the plugin
+(scripts/test-hydra.sh).
 
     .venv/bin/python bench/hydra.py [--samples N] [--width W] [SCENE ...]
 """
@@ -20,9 +24,9 @@ from openusd import available, openusd_env, openusd_python  # noqa: E402
 DEFAULT_SCENES = ("scenes/cornell/cornell.usda", "scenes/sibenik/sibenik.usda", "scenes/sponza/sponza.usda")
 
 
-def hydra(scene, width, integrator, samples):
+def hydra(scene, width, integrator, samples, edit=""):
     script = ROOT / "tests/hydra/scripts/record_stats.py"
-    out = subprocess.run([openusd_python(), str(script), str(scene), str(width), integrator, str(samples)],
+    out = subprocess.run([openusd_python(), str(script), str(scene), str(width), integrator, str(samples), "0", edit],
                          env=openusd_env(), capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -53,6 +57,14 @@ def main():
         print(f"{Path(scene).name:28} {h['open_seconds']:7.2f} {h['sync_seconds']:7.2f} "
               f"{float(s.get('sceneBuildSeconds', 0)):8.2f} {float(s.get('firstPixelSeconds', 0)):8.2f} "
               f"{h['wall_seconds']:8.2f} {g:7.2f} {h['wall_seconds'] / g:6.2f}")
+    print(f"\n{'scene: one mesh moved':28} {'edit':>6} {'build s':>8} {'built':>9} {'kept':>9} {'1st pass s':>10}")
+    for scene in args.scenes:
+        h = hydra(ROOT / scene, args.width, args.integrator, 1, "move")
+        rows = [("load", h["stats"])] + [(f"move {i + 1}", s) for i, s in enumerate(h["stats_after_moves"])]
+        for edit, s in rows:
+            print(f"{Path(scene).name + ' ' + h['moved'].split('/')[-1]:28.28} {edit:>6} "
+                  f"{float(s.get('sceneBuildSeconds', 0)):8.3f} {int(s.get('primitivesBuilt', 0)):9,} "
+                  f"{int(s.get('primitivesReused', 0)):9,} {float(s.get('firstPixelSeconds', 0)):10.3f}")
 
 
 if __name__ == "__main__":

@@ -80,6 +80,9 @@ VtDictionary HdGiRenderDelegate::GetRenderStats() const {
     // rebuilds the scene; unchanged files come from the session's image cache).
     stats["textures"] = s.textures;
     stats["texturesRead"] = s.texturesRead;
+    // The last build's BVH work: an edit builds only what it changed (gi::Scene::reuseBvhOf).
+    stats["primitivesBuilt"] = s.primitivesBuilt;
+    stats["primitivesReused"] = s.primitivesReused;
     // usdview's HUD shows this key.
     stats["percentDone"] = s.targetSamples > 0 ? 100.0 * s.samples / s.targetSamples : 0.0;
     return stats;

@@ -55,7 +55,7 @@ void HdGiRenderSession::Run() {
     if (!_scene || version != _sceneVersion || job.domeLightCameraVisibility != _sceneDomeVisible ||
         shutter != _sceneShutter) {
         auto buildStart = Clock::now();
-        _scene = _param->Store().Build(&_ids, job.domeLightCameraVisibility, shutter);
+        _scene = _param->Store().Build(&_ids, job.domeLightCameraVisibility, shutter, _scene.get());
         _sceneVersion = version;
         _sceneDomeVisible = job.domeLightCameraVisibility;
         _sceneShutter = shutter;
@@ -63,6 +63,8 @@ void HdGiRenderSession::Run() {
     }
     stats.textures = int(_scene->stats().textures);
     stats.texturesRead = int(_scene->stats().texturesRead);
+    stats.primitivesBuilt = double(_scene->stats().primitivesBuilt);
+    stats.primitivesReused = double(_scene->stats().primitivesReused);
 
     gi::RenderSettings settings = job.settings;
     settings.width = job.dataWindow.GetWidth();

@@ -36,6 +36,8 @@ struct HdGiSessionStats {
     double sceneBuildSeconds = 0, firstPixelSeconds = 0, renderSeconds = 0;
     double lastTileTime = 0;  // steady_clock seconds: when the renderer last finished a tile
     int textures = 0, texturesRead = 0;  // bound by the last scene build; of them read from disk
+    // The last scene build's BVH work: triangles and spheres built, and kept from the scene before.
+    double primitivesBuilt = 0, primitivesReused = 0;
     int samples = 0, targetSamples = 0;
     uint64_t rays = 0;
     // Samples the renderer replaced because they were NaN, Inf or negative (a renderer bug;

@@ -160,7 +160,8 @@ void HdGiSceneStore::ReportWarnings(gi::Scene const& scene) const {
     }
 }
 
-std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightCameraVisibility, GfVec2f shutter) const {
+std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightCameraVisibility, GfVec2f shutter,
+                                                 gi::Scene const* previous) const {
     // Snapshot under the lock (records are immutable once stored), build outside it.
     std::vector<std::shared_ptr<const HdGiGeometry>> geometry;
     std::vector<std::shared_ptr<const gi::LightDesc>> lights;
@@ -172,6 +173,7 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         materials = _materials;
     }
     auto scene = std::make_unique<gi::Scene>();
+    if (previous) scene->reuseBvhOf(*previous);
     scene->shareImages(_images);
     MaterialBinder binder(*scene, materials);
     HdGiIdMap map;

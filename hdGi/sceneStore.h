@@ -75,8 +75,10 @@ public:
     // A committed scene of everything visible now, with the id maps for the film's AOVs.
     // `domeLightCameraVisibility` false hides dome lights from camera rays (a render setting);
     // `shutter`: the rendering camera's, relative to the frame (motion is sampled over it).
+    // `previous`: the last scene built (no longer rendering), whose BVHs are kept where nothing
+    // changed since (gi::Scene::reuseBvhOf): an edit rebuilds only the BVH of what it changed.
     std::unique_ptr<gi::Scene> Build(HdGiIdMap* ids, bool domeLightCameraVisibility = true,
-                                     GfVec2f shutter = GfVec2f(0.0f)) const;
+                                     GfVec2f shutter = GfVec2f(0.0f), gi::Scene const* previous = nullptr) const;
 
     size_t GeometryCount() const;
 

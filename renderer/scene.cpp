@@ -1,6 +1,7 @@
 #include "scene.h"
 
 #include "embree_ray.h"
+#include "scene_bvh.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,11 +11,6 @@
 namespace gi {
 
 namespace {
-
-void embreeErrorHandler(void* userPtr, RTCError code, const char* message) {
-    static_cast<const Scene*>(userPtr)->warn(std::string("Embree error ") + std::to_string(int(code)) + ": " +
-                                             (message ? message : ""));
-}
 
 // Perturbs the shading normal n by a tangent-space normal map. The tangent frame follows the
 // triangle's texture parametrisation (T along +u, B along +v, MikkTSpace's convention for
@@ -45,17 +41,13 @@ bool isSimilarity(const Mat4& m) {
 
 }  // namespace
 
-Scene::Scene() {
-    device_ = rtcNewDevice(nullptr);
-    rtcSetDeviceErrorFunction(device_, embreeErrorHandler, this);
-}
+Scene::Scene() : device_(std::make_shared<EmbreeDevice>()) { device_->reporter = this; }
 
 Scene::~Scene() {
-    for (auto& p : prototypes_)
-        if (p.rtc) rtcReleaseScene(p.rtc);
     if (top_) rtcReleaseScene(top_);
     if (lightBvh_) rtcReleaseScene(lightBvh_);
-    rtcReleaseDevice(device_);
+    const Scene* self = this;
+    device_->reporter.compare_exchange_strong(self, nullptr);  // a later scene may report there now
 }
 
 void Scene::warn(const std::string& message) const {
@@ -348,7 +340,7 @@ void Scene::buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, i
     // Moving shapes get one vertex buffer per time step (Embree's multi-segment motion blur).
     const size_t steps = s.isSphere ? s.stepCenters.size() : s.stepPositions.size();
     if (s.isSphere) {
-        g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+        g = rtcNewGeometry(device_->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
         if (steps) rtcSetGeometryTimeStepCount(g, unsigned(steps));
         for (size_t step = 0; step < std::max<size_t>(1, steps); ++step) {
             Vec3 c = steps ? s.stepCenters[step] : s.center;
@@ -356,9 +348,8 @@ void Scene::buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, i
                                                                    RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
             v[0] = c.x, v[1] = c.y, v[2] = c.z, v[3] = steps ? s.stepRadii[step] : s.radius;
         }
-        stats_.spheres++;
     } else {
-        g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+        g = rtcNewGeometry(device_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
         if (steps) rtcSetGeometryTimeStepCount(g, unsigned(steps));
         for (size_t step = 0; step < std::max<size_t>(1, steps); ++step) {
             const std::vector<Vec3>& points = steps ? s.stepPositions[step] : s.positions;
@@ -371,9 +362,8 @@ void Scene::buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, i
         uint32_t* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                        3 * sizeof(uint32_t), triangles));
         std::copy(s.indices.begin(), s.indices.end(), idx);
-        stats_.triangles += triangles;
     }
-    if (steps) stats_.movingShapes++;
+    stats_.primitivesBuilt += s.isSphere ? 1 : s.indices.size() / 3;
     rtcCommitGeometry(g);
     unsigned geomId = rtcAttachGeometry(target, g);
     rtcReleaseGeometry(g);
@@ -385,22 +375,38 @@ void Scene::commit() {
     if (committed_) return;
     auto start = std::chrono::steady_clock::now();
     bindMaterials();
-    top_ = rtcNewScene(device_);
+    countShapes();
+    std::vector<uint64_t> fingerprints(shapes_.size());
+    for (size_t i = 0; i < shapes_.size(); ++i) fingerprints[i] = fingerprint(shapes_[i]);
+    top_ = rtcNewScene(device_->device);
     rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
-    for (size_t i = 0; i < shapes_.size(); ++i)
-        if (shapes_[i].prototype < 0) buildShapeGeometry(top_, topGeomToShape_, int(i));
+    for (int i : buildStaticBvh(fingerprints)) buildShapeGeometry(top_, topGeomToShape_, i);
+    if (staticBvh_) {  // identity-instanced: its hits are the top level's (makeInteraction)
+        RTCGeometry g = rtcNewGeometry(device_->device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, staticBvh_->rtc);
+        const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, identity);
+        rtcCommitGeometry(g);
+        staticBvhGeom_ = rtcAttachGeometry(top_, g);
+        rtcReleaseGeometry(g);
+    }
+    std::map<std::string, int> prototypeUses;
+    for (const Prototype& p : prototypes_) prototypeUses[p.name]++;
     for (Prototype& p : prototypes_) {
-        p.rtc = rtcNewScene(device_);
-        rtcSetSceneBuildQuality(p.rtc, RTC_BUILD_QUALITY_HIGH);
-        for (int s : p.shapes) {
-            buildShapeGeometry(p.rtc, p.geomToShape, s);
-            if (materials_[shapes_[s].material]->isEmissive()) p.emissive = true;
+        std::shared_ptr<const Bvh> previous;
+        if (previous_ && prototypeUses[p.name] == 1) {
+            auto it = previous_->prototypes.find(p.name);
+            if (it != previous_->prototypes.end()) previous = it->second;
         }
-        rtcCommitScene(p.rtc);
+        p.bvh = shapesBvh(p.shapes, fingerprints, previous);
+        p.rtc = p.bvh->rtc;
+        p.geomToShape = p.shapes;
+        for (int s : p.shapes)
+            if (materials_[shapes_[s].material]->isEmissive()) p.emissive = true;
     }
     for (size_t i = 0; i < instances_.size(); ++i) {
         const Instance& inst = instances_[i];
-        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+        RTCGeometry g = rtcNewGeometry(device_->device, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(g, prototypes_[inst.prototype].rtc);
         // Embree's column-major layout of M^T is exactly USD's row-major M. A moving instance
         // gets one transform per time step (linearly interpolated, as motion.h's atTime).
@@ -529,7 +535,9 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const RTCRayHit& rh) c
     const RTCHit& h = rh.hit;
     const Instance* inst = nullptr;
     int shapeId;
-    if (h.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+    if (h.instID[0] != RTC_INVALID_GEOMETRY_ID && h.instID[0] == staticBvhGeom_) {
+        shapeId = staticBvhToShape_[h.geomID];
+    } else if (h.instID[0] != RTC_INVALID_GEOMETRY_ID) {
         inst = &instances_[-topGeomToShape_[h.instID[0]] - 1];
         shapeId = prototypes_[inst->prototype].geomToShape[h.geomID];
         si.instanceId = uint32_t(-topGeomToShape_[h.instID[0]] - 1);
@@ -620,8 +628,8 @@ struct LightIntersectContext {
 
 void Scene::buildLightBvh() {
     if (analyticLights_.size() <= kLinearLightTests) return;
-    lightBvh_ = rtcNewScene(device_);
-    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+    lightBvh_ = rtcNewScene(device_->device);
+    RTCGeometry g = rtcNewGeometry(device_->device, RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(g, unsigned(analyticLights_.size()));
     rtcSetGeometryUserData(g, this);
     rtcSetGeometryBoundsFunction(

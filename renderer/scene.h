@@ -80,6 +80,13 @@ public:
     int addInstance(int prototype, const Mat4& transform, const std::string& name, const MotionSteps& motion = {});
     int addLight(const LightDesc& desc);
     void setCamera(const CameraDesc& desc) { cameraDesc_ = desc; hasCamera_ = true; }
+    // Frame sequences and interactive edits: this scene, built after `previous` (the last frame's or
+    // the last edit's, still alive), shares its Embree device and takes its BVHs where nothing
+    // changed (scene_reuse.cpp). Top-level shapes that are the same as in `previous` (same name,
+    // points and indices; not moving) go into one static BVH, built once and reused by every later
+    // scene while they stay the same; a prototype whose shapes are all the same keeps its BVH. Only
+    // what changed is built. The image is the one this scene gives built alone. Call before commit.
+    void reuseBvhOf(const Scene& previous);
     void commit();
     bool committed() const { return committed_; }
 
@@ -119,13 +126,15 @@ public:
         size_t movingShapes = 0, movingInstances = 0;  // built as Embree motion geometry
         size_t texturesRead = 0;  // of `textures`, read from disk (the rest came from a shared ImageCache)
         double buildSeconds = 0;
+        // BVH work of commit(): triangles and spheres built, and taken from the previous scene.
+        size_t primitivesBuilt = 0, primitivesReused = 0;
     };
     const Stats& stats() const { return stats_; }
     // Textures come from (and go to) `images`, shared with other scenes, instead of this scene's
     // own reads. Call before commit().
     void shareImages(std::shared_ptr<ImageCache> images) { sharedImages_ = std::move(images); }
     RTCScene embreeScene() const { return top_; }
-    RTCDevice embreeDevice() const { return device_; }
+    RTCDevice embreeDevice() const;
 
 private:
     struct Shape {
@@ -145,10 +154,14 @@ private:
         int prototype = -1;
         int lightOffset = -1;  // first triangle light of this shape (top-level shapes)
     };
+    struct Bvh;           // an Embree scene of shapes, shareable between consecutive scenes
+    struct EmbreeDevice;  // a device, shared likewise, and the scene its errors are reported to
+    struct Previous;      // what reuseBvhOf took from the previous scene
     struct Prototype {
         std::string name;
         std::vector<int> shapes;
-        RTCScene rtc = nullptr;
+        std::shared_ptr<const Bvh> bvh;
+        RTCScene rtc = nullptr;  // bvh's
         std::vector<int> geomToShape;
         bool emissive = false;
         std::map<int, int> relativeLightOffset;  // emissive shape -> its first light within an instance
@@ -162,6 +175,15 @@ private:
     };
 
     void buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, int shapeId);
+    // scene_reuse.cpp: a shape's BVH inputs (points, indices, sphere, motion steps) as one hash.
+    static uint64_t fingerprint(const Shape& shape);
+    // The BVH of `shapes` (geometry ids in their order), built, or taken from previous_ when
+    // `previous` holds the same names and fingerprints in the same order.
+    std::shared_ptr<const Bvh> shapesBvh(const std::vector<int>& shapes, const std::vector<uint64_t>& fingerprints,
+                                         const std::shared_ptr<const Bvh>& previous);
+    // commit()'s top level: the static BVH (reused or built) and the shapes left out of it.
+    std::vector<int> buildStaticBvh(const std::vector<uint64_t>& fingerprints);
+    void countShapes();
     // The validated steps of a mesh's motion, or empty (warned about when unusable); `transforms`:
     // the per-step transforms baked into them (empty when the static one was).
     std::vector<std::vector<Vec3>> meshMotion(const std::string& name, const std::vector<Vec3>& positions,
@@ -179,8 +201,13 @@ private:
     Texture loadTexture(const TextureDesc& desc, const std::string& materialName, const std::string& input);
     int defaultMaterial();
 
-    RTCDevice device_ = nullptr;
+    std::shared_ptr<EmbreeDevice> device_;
     RTCScene top_ = nullptr;
+    std::unique_ptr<Previous> previous_;
+    std::map<std::string, uint64_t> topFingerprints_;  // static top-level shapes with a name of their own
+    std::shared_ptr<const Bvh> staticBvh_;  // top-level shapes unchanged since the previous scene
+    unsigned staticBvhGeom_ = RTC_INVALID_GEOMETRY_ID;  // its instance in top_
+    std::vector<int> staticBvhToShape_;               // its geometry ids -> shapes
     std::vector<Shape> shapes_;
     std::vector<Prototype> prototypes_;
     std::vector<Instance> instances_;

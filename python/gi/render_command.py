@@ -178,7 +178,8 @@ def cmd_render(args, flags, parser):
                     metadata["gi:tile"] = args.tile.text
                 outputs = write_target(target, result, metadata, args, name_number(frame.number, sequence), denoised)
                 bar.clear()
-                print(summary(args, settings, result, wall_seconds, outputs, frame.number) + denoised_text, flush=True)
+                print(summary(args, settings, result, wall_seconds, outputs, frame.number) + denoised_text +
+                      (scene_note(frame) if args.frames and t == 0 else ""), flush=True)
                 start = time.perf_counter()
     finally:
         bar.close()
@@ -198,6 +199,15 @@ def exr_metadata(args, params, result, loaded, wall_seconds, frame=None, seed=No
             # Samples the renderer replaced (NaN, Inf, negative): the pixels never show them.
             "gi:non_finite_samples": str(int(result.stats["non_finite_samples"])),
             "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
+
+
+def scene_note(frame):
+    """What a frame of a sequence built: its BVH work, or nothing (the previous frame's scene)."""
+    if not frame.rebuilt:
+        return "; scene of the previous frame"
+    stats = frame.loaded.scene.stats()
+    return (f"; scene built in {stats.get('build_seconds', 0):.3f} s (BVH: {int(stats.get('primitives_built', 0)):,} "
+            f"primitives built, {int(stats.get('primitives_reused', 0)):,} kept from the previous frame)")
 
 
 def summary(args, settings, result, wall_seconds, outputs, frame=None):

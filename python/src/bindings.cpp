@@ -266,6 +266,15 @@ void bindScene(nb::module_& m) {
             "prototype"_a, "transform"_a, "name"_a = "", "motion_transforms"_a = nb::none())
         .def("add_light", [](Scene& s, const LightDesc& d) { requireBuilding(s); return s.addLight(d); })
         .def("set_camera", [](Scene& s, const CameraDesc& d) { requireBuilding(s); s.setCamera(d); })
+        .def(
+            "reuse_bvh_of",
+            [](Scene& s, const Scene& previous) {
+                requireBuilding(s);
+                s.reuseBvhOf(previous);
+            },
+            "previous"_a,
+            "Build only the BVHs of what changed since `previous` (the last frame's committed scene; "
+            "Scene::reuseBvhOf). Call before commit.")
         .def("commit", [](Scene& s) { nb::gil_scoped_release release; s.commit(); })
         .def("warnings", &Scene::warnings)
         .def("stats", [](const Scene& s) {
@@ -280,6 +289,8 @@ void bindScene(nb::module_& m) {
                                             {"texture_bytes", double(st.textureBytes)},
                                             {"textures_read", double(st.texturesRead)}, {"portals", double(st.portals)},
                                             {"build_seconds", st.buildSeconds},
+                                            {"primitives_built", double(st.primitivesBuilt)},
+                                            {"primitives_reused", double(st.primitivesReused)},
                                             {"moving_shapes", double(st.movingShapes)},
                                             {"moving_instances", double(st.movingInstances)},
                                             {"committed", s.committed() ? 1.0 : 0.0},

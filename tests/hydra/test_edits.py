@@ -76,3 +76,20 @@ over "World"
     assert after["textures"] == 1 and after["texturesRead"] == 0, after
     assert after["sceneBuildSeconds"] > 0, after  # the edit did rebuild the scene
     assert before["nonFiniteSamples"] == 0 and after["nonFiniteSamples"] == 0, (before, after)
+
+
+def test_moving_a_mesh_rebuilds_only_its_bvh(tmp_path):
+    """An edit builds the BVH of what it changed only (gi::Scene::reuseBvhOf): the first move of a
+    mesh gathers everything else into one static BVH; every later move builds the mesh alone."""
+    script = REPO / "tests/hydra/scripts/record_stats.py"
+    result = run_openusd([openusd_python(), str(script), str(CORNELL), "32", "direct", "2", "0", "move"])
+    assert not hdgi_errors(result.stdout + result.stderr), result.stderr
+    report = json.loads(result.stdout.strip().splitlines()[-1])
+    initial, moves = report["stats"], report["stats_after_moves"]
+    total = initial["primitivesBuilt"]
+    assert initial["primitivesReused"] == 0 and total > 0, initial
+    assert moves[0]["primitivesBuilt"] == total and moves[0]["primitivesReused"] == 0, moves[0]
+    for later in moves[1:]:
+        assert 0 < later["primitivesBuilt"] < 0.2 * total, (report["moved"], later)
+        assert later["primitivesBuilt"] + later["primitivesReused"] == total, later
+        assert later["nonFiniteSamples"] == 0, later

@@ -173,3 +173,70 @@ def test_one_output_name_for_many_frames_is_a_usage_error(tmp_path):
     assert proc.returncode == 2 and "-o" in proc.stderr and "####" in proc.stderr
     proc = run_gi("render", path, "--frames", "4-1", check=False)
     assert proc.returncode == 2 and "ends before it starts" in proc.stderr
+
+
+def ball_wall_and_pebbles_stage(tmp_path):
+    """animated_ball_stage with a wall and a point instancer of three pebbles, all still."""
+    from pxr import Gf, UsdGeom
+    stage, path = animated_ball_stage(tmp_path)
+    wall = UsdGeom.Cube.Define(stage, "/Wall")
+    wall.AddTranslateOp().Set(Gf.Vec3d(0, 0, -3))
+    wall.AddScaleOp().Set(Gf.Vec3f(3, 3, 0.1))
+    pebbles = UsdGeom.PointInstancer.Define(stage, "/Pebbles")
+    pebble = UsdGeom.Sphere.Define(stage, "/Pebbles/Prototypes/Pebble")
+    pebble.CreateRadiusAttr(0.2)
+    pebbles.CreatePrototypesRel().SetTargets([pebble.GetPath()])
+    pebbles.CreateProtoIndicesAttr([0, 0, 0])
+    pebbles.CreatePositionsAttr([(-1, -1.2, 1), (0, -1.2, 1), (1, -1.2, 1)])
+    stage.Save()
+    return path
+
+
+def test_moving_prims_rebuild_only_their_own_bvh_and_frames_equal_scenes_built_alone(tmp_path, monkeypatch):
+    """Frames after the second keep the BVH of everything that did not move (Scene.reuse_bvh_of):
+    the ball is the only primitive built; the images are those of each frame loaded alone."""
+    from gi import sequence
+    from gi.loader import load_stage
+    from gi.render import render_loaded, render_settings
+    # Whether keeping BVHs pays depends on frame times (test_long_frames_...); here it always does.
+    monkeypatch.setattr(sequence, "STATIC_BVH_TRACE_COST", 0.0)
+    path = ball_wall_and_pebbles_stage(tmp_path)
+    built, kept = [], []
+    for frame in sequence.Sequence(path, [1, 2, 3, 4]):
+        assert frame.rebuilt
+        settings = render_settings(frame.loaded, "path", {}, 2, frame.number, 0, 0.0, (24, 16), "box")
+        image = np.asarray(render_loaded(frame.loaded, settings, "").color)
+        built.append(int(frame.loaded.scene.stats()["primitives_built"]))
+        kept.append(int(frame.loaded.scene.stats()["primitives_reused"]))
+        alone = load_stage(path, time=frame.number)
+        assert np.array_equal(image, np.asarray(render_loaded(alone, settings, "").color)), frame.number
+    # Floor and wall 12 triangles each, the pebble prototype 1 sphere, the ball 1 sphere. Frame 2
+    # gathers what did not move into one BVH (the prototype's is kept); then only the ball is built.
+    assert built == [26, 25, 1, 1], built
+    assert kept == [0, 1, 25, 25], kept
+
+
+def test_long_frames_build_one_flat_bvh(tmp_path, monkeypatch):
+    """Tracing through the kept static BVH costs a little (one instance level): frames whose render
+    takes longer than the whole scene's build over STATIC_BVH_TRACE_COST build a flat one."""
+    from gi import sequence
+    path = ball_wall_and_pebbles_stage(tmp_path)
+    monkeypatch.setattr(sequence, "STATIC_BVH_TRACE_COST", 1e9)  # every frame "long"
+    kept = []
+    for frame in sequence.Sequence(path, [1, 2, 3]):
+        frame.loaded.scene.commit()
+        kept.append(int(frame.loaded.scene.stats()["primitives_reused"]))
+    assert kept == [0, 0, 0], kept
+
+
+def test_each_frame_says_what_its_bvh_built(tmp_path):
+    import re
+    path = ball_wall_and_pebbles_stage(tmp_path)
+    proc = run_gi("render", path, "--frames", "1-3", "--spp", 1, "--resolution", 8, 8, "--no-png",
+                  "-o", tmp_path / "o.####.exr")
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    assert "(BVH: 26 primitives built, 0 kept from the previous frame)" in lines[0], lines
+    # Whether later frames keep BVHs depends on measured frame times (the tests above).
+    for line in lines[1:]:
+        assert re.search(r"\(BVH: \d+ primitives built, \d+ kept from the previous frame\)$", line), lines

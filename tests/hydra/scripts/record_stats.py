@@ -3,7 +3,9 @@ usdrecord's FrameRecorder sets it up (no GPU, scene camera, framing, no camera l
 converged, and prints one JSON object: stage open time, the time of the first Render call (Hydra
 sync), hdGi's render stats (scene build, first pixel) and the total wall time.
 With EDIT = "light", every light's intensity is then doubled and the render repeated (a scene
-rebuild in the same session); its stats are printed as "stats_after_edit".
+rebuild in the same session); its stats are printed as "stats_after_edit". With EDIT = "move",
+the stage's first mesh is moved three times, rendering after each; the stats after each move are
+printed as "stats_after_moves" (with the mesh's path as "moved").
     record_stats.py SCENE WIDTH INTEGRATOR SAMPLES [SEED] [EDIT]"""
 import json
 import sys
@@ -66,5 +68,13 @@ if edit == "light":
         if intensity and intensity.HasAuthoredValue():
             intensity.Set(2 * intensity.Get())
     report["stats_after_edit"] = render_until_converged()
+elif edit == "move":
+    mesh = next(p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh))
+    translate = UsdGeom.Xformable(mesh).AddTranslateOp(opSuffix="benchEdit")
+    report["moved"] = str(mesh.GetPath())
+    report["stats_after_moves"] = []
+    for step in range(1, 4):
+        translate.Set(Gf.Vec3d(0, 0.01 * step, 0))
+        report["stats_after_moves"].append(render_until_converged())
 report["wall_seconds"] = time.perf_counter() - total
 print(json.dumps(report, default=str))

@@ -1,0 +1,37 @@
+// The Scene's Embree objects that consecutive scenes share (Scene::reuseBvhOf): those of a frame
+// sequence, or of an interactive session's edits. Internal to scene.cpp and scene_reuse.cpp.
+#pragma once
+#include <atomic>
+
+#include "scene.h"
+
+namespace gi {
+
+struct Scene::EmbreeDevice {
+    RTCDevice device = nullptr;
+    // The scene Embree's errors are warned to: the newest scene using the device.
+    std::atomic<const Scene*> reporter{nullptr};
+    EmbreeDevice();
+    ~EmbreeDevice() { rtcReleaseDevice(device); }
+};
+
+struct Scene::Bvh {
+    RTCScene rtc = nullptr;
+    std::vector<std::string> names;      // the shapes', by geometry id
+    std::vector<uint64_t> fingerprints;  // the shapes', by geometry id (Scene::fingerprint)
+    size_t primitives = 0;               // triangles and spheres
+    Bvh() = default;
+    Bvh(const Bvh&) = delete;
+    Bvh& operator=(const Bvh&) = delete;
+    ~Bvh() {
+        if (rtc) rtcReleaseScene(rtc);
+    }
+};
+
+struct Scene::Previous {
+    std::map<std::string, uint64_t> topFingerprints;
+    std::shared_ptr<const Bvh> staticBvh;
+    std::map<std::string, std::shared_ptr<const Bvh>> prototypes;  // by name
+};
+
+}  // namespace gi
