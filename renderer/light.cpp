@@ -24,6 +24,20 @@ public:
     virtual float area() const = 0;
     virtual bool twoSided() const { return false; }
     virtual Color radianceAt(const SurfacePoint&) const { return L_; }
+    // The box holding the emitting surface, and the cone of its normals (cosine -1: all ways).
+    virtual bool extent(Vec3* lo, Vec3* hi) const { return shapeBounds(lo, hi); }
+    virtual Vec3 normalCone(float* cosThetaO) const {
+        *cosThetaO = -1;
+        return Vec3(0, 0, 1);
+    }
+    bool emissionBounds(LightBounds* b) const override {
+        if (!extent(&b->lo, &b->hi)) return false;
+        b->phi = luminance(power(bounds_));
+        b->w = normalCone(&b->cosThetaO);
+        b->cosThetaE = 0;  // each point emits over its hemisphere
+        b->twoSided = twoSided();
+        return b->phi > 0;
+    }
 
     LightSample sample(const Vec3& ref, Vec2 u) const override {
         SurfacePoint s = samplePoint(u);
@@ -70,6 +84,10 @@ public:
         area_ = length(cross(e1, e2));
     }
     SurfacePoint samplePoint(Vec2 u) const override { return {p0_ + e1_ * u.x + e2_ * u.y, n_}; }
+    Vec3 normalCone(float* cosThetaO) const override {
+        *cosThetaO = 1;
+        return n_;
+    }
     float area() const override { return area_; }
     float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
         return areaToSolidAngle(1 / area_, t, dot(-wi, n_));
@@ -102,6 +120,10 @@ private:
 class DiskLight : public AreaLight {
 public:
     DiskLight(const Vec3& c, const Vec3& n, float r, Color L) : c_(c), frame_(n), r_(r) { L_ = L; }
+    Vec3 normalCone(float* cosThetaO) const override {
+        *cosThetaO = 1;
+        return frame_.n;
+    }
     SurfacePoint samplePoint(Vec2 u) const override {
         Vec2 d = sampleConcentricDisk(u);
         return {c_ + frame_.s * (d.x * r_) + frame_.t * (d.y * r_), frame_.n};
@@ -488,6 +510,15 @@ public:
     }
     float area() const override { return area_; }
     bool twoSided() const override { return twoSided_; }
+    bool extent(Vec3* lo, Vec3* hi) const override {
+        *lo = vmin(p_[0], vmin(p_[1], p_[2]));
+        *hi = vmax(p_[0], vmax(p_[1], p_[2]));
+        return true;
+    }
+    Vec3 normalCone(float* cosThetaO) const override {
+        *cosThetaO = 1;
+        return n_;
+    }
     float pdf(const Vec3&, const Vec3& wi, float t) const override {
         return areaToSolidAngle(1 / area_, t, dot(-wi, n_));
     }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "light_sampler.h"
 #include "math.h"
 #include "portal.h"
 #include "sampling.h"
@@ -57,6 +58,8 @@ public:
     // World-space box around an analytic shape (what intersect() can hit); false for lights
     // without one (infinite lights, emissive triangles, which the surface BVH holds).
     virtual bool shapeBounds(Vec3* lo, Vec3* hi) const { return false; }
+    // Where and how the light emits, for light selection (light_sampler.h); false for infinite lights.
+    virtual bool emissionBounds(LightBounds*) const { return false; }
     virtual Color power(const SceneBounds&) const = 0;
     virtual PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&) const = 0;
     virtual bool isInfinite() const { return false; }

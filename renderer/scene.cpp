@@ -526,7 +526,9 @@ void Scene::buildLights() {
         if (lights_[i]->shapeBounds(&lo, &hi)) analyticLights_.push_back(int(i));
     }
     buildLightBvh();
-    if (!power.empty()) lightDistribution_ = Distribution1D(power.data(), int(power.size()));
+    std::vector<const Light*> lights;
+    for (const auto& light : lights_) lights.push_back(light.get());
+    lightSampler_ = LightSampler(lights, power);
     stats_.lights = lights_.size();
 }
 

@@ -99,8 +99,9 @@ public:
     bool visible(const SurfaceInteraction& si, const Vec3& wi, float distance, RayStats& stats) const;
 
     const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
-    const Distribution1D& lightDistribution() const { return lightDistribution_; }
-    float lightPmf(int light) const { return lightDistribution_.pmf(light); }
+    // Light selection at a shading point (light_sampler.h), and the probability it picks `light` there.
+    const LightSampler& lightSampler() const { return lightSampler_; }
+    float lightPmf(const Vec3& p, int light) const { return lightSampler_.pmf(p, light); }
     const std::vector<int>& infiniteLights() const { return infiniteLights_; }
     const SceneBounds& bounds() const { return bounds_; }
     Vec3 boundsMin() const { return boundsMin_; }
@@ -221,7 +222,7 @@ private:
     std::vector<int> infiniteLights_;
     std::vector<int> analyticLights_;  // lights with a shape of their own (not in top_)
     RTCScene lightBvh_ = nullptr;      // over analyticLights_, when there are more than a few
-    Distribution1D lightDistribution_;
+    LightSampler lightSampler_;
     SceneBounds bounds_;
     Vec3 boundsMin_{0.0f}, boundsMax_{0.0f};
     CameraDesc cameraDesc_;

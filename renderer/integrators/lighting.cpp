@@ -30,7 +30,8 @@ Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Vec2 uLight,
                         bool mis) {
     if (scene.lights().empty() || !sp.bsdf.hasNonDelta()) return Color(0.0f);
     float pmf;
-    int index = scene.lightDistribution().sample(uSelect, &pmf);
+    int index = scene.lightSampler().sample(sp.si.p, uSelect, &pmf);
+    if (index < 0) return Color(0.0f);  // no light can reach this point
     const Light& light = *scene.lights()[index];
     LightSample ls = light.sample(sp.si.p, uLight);
     if (!(ls.pdf > 0) || isBlack(ls.Li)) return Color(0.0f);
@@ -50,7 +51,7 @@ Color emittedOnHit(const Scene& scene, const Intersection& hit, const Ray& ray, 
         const Light& light = *scene.lights()[hit.light];
         Color Le = light.radiance(ray.d);
         if (prevDelta || isBlack(Le)) return Le;
-        float lightPdf = scene.lightPmf(hit.light) * light.pdf(prevPoint, ray.d, hit.t);
+        float lightPdf = scene.lightPmf(prevPoint, hit.light) * light.pdf(prevPoint, ray.d, hit.t);
         return Le * powerHeuristic(prevPdf, lightPdf);
     }
     const SurfaceInteraction& si = hit.si;
@@ -58,7 +59,7 @@ Color emittedOnHit(const Scene& scene, const Intersection& hit, const Ray& ray, 
     if (!si.doubleSided && dot(ray.d, si.ng) > 0) return Color(0.0f);  // back of a one-sided emitter
     Color Le = si.material->emission(si.uv);
     if (prevDelta || si.emissiveLight < 0) return Le;
-    float lightPdf = scene.lightPmf(si.emissiveLight) *
+    float lightPdf = scene.lightPmf(prevPoint, si.emissiveLight) *
                      scene.lights()[si.emissiveLight]->pdf(prevPoint, ray.d, length(si.p - prevPoint));
     return Le * powerHeuristic(prevPdf, lightPdf);
 }
@@ -74,7 +75,7 @@ Color escapedRadiance(const Scene& scene, const Ray& ray, float prevPdf, bool pr
             L += Le;
             continue;
         }
-        float lightPdf = scene.lightPmf(index) * light.pdf(ray.o, ray.d, kInf);
+        float lightPdf = scene.lightPmf(ray.o, index) * light.pdf(ray.o, ray.d, kInf);
         L += Le * powerHeuristic(prevPdf, lightPdf);
     }
     return L;
