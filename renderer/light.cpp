@@ -82,6 +82,25 @@ public:
     RectLight(const Vec3& p0, const Vec3& e1, const Vec3& e2, const Vec3& n, Color L) : p0_(p0), e1_(e1), e2_(e2), n_(n) {
         L_ = L;
         area_ = length(cross(e1, e2));
+        rectangular_ = std::fabs(dot(e1, e2)) <= 1e-4f * length(e1) * length(e2);  // not sheared
+    }
+    // Directions uniform over the solid angle the rect subtends (sampling.h): a point beside a
+    // large rect light (a wall next to a window) gets none of the 1/d^2 spikes of area sampling.
+    // Tiny solid angles (float trouble), near-hemispheres and sheared rects sample by area, as
+    // pbrt-v4 does; pdf() decides the same way.
+    LightSample sample(const Vec3& ref, Vec2 u) const override {
+        if (!(dot(ref - p0_, n_) > 0)) return {};  // behind the one-sided light
+        SphericalRectangle rect(ref, p0_, e1_, e2_);
+        if (!sampledBySolidAngle(rect)) return AreaLight::sample(ref, u);
+        Vec3 d = rect.sample(u) - ref;
+        float dist = length(d);
+        LightSample ls;
+        if (!(dist > 0)) return ls;
+        ls.wi = d / dist;
+        ls.distance = dist;
+        ls.pdf = 1 / rect.solidAngle;
+        ls.Li = L_;
+        return ls;
     }
     SurfacePoint samplePoint(Vec2 u) const override { return {p0_ + e1_ * u.x + e2_ * u.y, n_}; }
     Vec3 normalCone(float* cosThetaO) const override {
@@ -90,6 +109,9 @@ public:
     }
     float area() const override { return area_; }
     float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
+        if (!(dot(ref - p0_, n_) > 0)) return 0;
+        SphericalRectangle rect(ref, p0_, e1_, e2_);
+        if (sampledBySolidAngle(rect)) return 1 / rect.solidAngle;
         return areaToSolidAngle(1 / area_, t, dot(-wi, n_));
     }
     Color radiance(const Vec3& wi) const override { return dot(-wi, n_) > 0 ? L_ : Color(0); }
@@ -113,8 +135,12 @@ public:
     }
 
 private:
+    bool sampledBySolidAngle(const SphericalRectangle& rect) const {
+        return rectangular_ && rect.solidAngle > 3e-4f && rect.solidAngle < 6.22f;
+    }
     Vec3 p0_, e1_, e2_, n_;
     float area_;
+    bool rectangular_ = true;
 };
 
 class DiskLight : public AreaLight {

@@ -19,11 +19,6 @@ float sinSubClamped(float sinA, float cosA, float sinB, float cosB) {
     return cosA > cosB ? 0.0f : sinA * cosB - cosA * sinB;
 }
 
-float angleBetween(const Vec3& a, const Vec3& b) {
-    if (dot(a, b) < 0) return kPi - 2 * std::asin(std::min(1.0f, length(a + b) / 2));
-    return 2 * std::asin(std::min(1.0f, length(b - a) / 2));
-}
-
 // The smallest cone (pbrt-v4's DirectionCone union) holding cones (wa, cosA) and (wb, cosB).
 void unionCone(Vec3 wa, float cosA, Vec3 wb, float cosB, Vec3* w, float* cosTheta) {
     float thetaA = std::acos(std::clamp(cosA, -1.0f, 1.0f)), thetaB = std::acos(std::clamp(cosB, -1.0f, 1.0f));

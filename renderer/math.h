@@ -65,6 +65,12 @@ inline float clamp01(float v) { return std::min(1.0f, std::max(0.0f, v)); }
 inline float safeSqrt(float v) { return std::sqrt(std::max(0.0f, v)); }
 
 // An orthonormal basis around a unit normal (Duff et al. 2017, branchless).
+// The angle between unit vectors, accurate near 0 and pi (unlike acos of the dot product).
+inline float angleBetween(const Vec3& a, const Vec3& b) {
+    if (dot(a, b) < 0) return kPi - 2 * std::asin(std::min(1.0f, length(a + b) / 2));
+    return 2 * std::asin(std::min(1.0f, length(b - a) / 2));
+}
+
 struct Frame {
     Vec3 s, t, n;
     Frame() : s(1, 0, 0), t(0, 1, 0), n(0, 0, 1) {}

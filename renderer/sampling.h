@@ -62,6 +62,20 @@ inline Vec2 sampleUniformTriangle(Vec2 u) {
     return {b0, b1};
 }
 
+// A rectangle (corner s, perpendicular edges ex, ey) as seen from p: the spherical rectangle of
+// Urena, Fajardo and King (2013), sampled uniformly in solid angle (pbrt-v4's
+// SampleSphericalRectangle). solidAngle is 0 when p lies in the rectangle's plane.
+struct SphericalRectangle {
+    SphericalRectangle(const Vec3& p, const Vec3& s, const Vec3& ex, const Vec3& ey);
+    // The point on the rectangle a uniform direction hits.
+    Vec3 sample(Vec2 u) const;
+    float solidAngle = 0;
+
+private:
+    Vec3 p_, x_, y_, z_;  // z_ points from p towards the rectangle's plane
+    float x0_ = 0, y0_ = 0, x1_ = 0, y1_ = 0, z0_ = 0, b0_ = 0, b1_ = 0, g0g1_ = 0, g2g3_ = 0;
+};
+
 inline float powerHeuristic(float pdfA, float pdfB) {
     float a = pdfA * pdfA, b = pdfB * pdfB;
     if (std::isinf(a)) return 1;
