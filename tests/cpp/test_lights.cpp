@@ -2,6 +2,8 @@
 // (pixel value = albedo/pi * E), and light sampling against BSDF sampling for the others.
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "scenes.h"
 
 using namespace gi;
@@ -203,4 +205,48 @@ TEST(AnalyticLights, BvhHitsWhatOneByOneTestsHit) {
         lit += sum[k] > 0;
     }
     EXPECT_GT(lit, 0.05 * double(sum.size()));  // eleven lights in view, about a tenth of the frame
+}
+
+TEST(Lights, RectLightSamplesUniformlyInSolidAngle) {
+    // A 2 x 1 rect light seen from beside it (a wall next to a window), sideways and from afar: each
+    // sample lands on the rect, its pdf is pdf()'s, and E[1/pdf] is the solid angle the rect
+    // subtends, counted independently as the share of uniform sphere directions that hit it.
+    LightDesc d;
+    d.name = "/Window";
+    d.kind = "rect";
+    d.width = 2;
+    d.height = 1;
+    std::string warning;
+    std::unique_ptr<Light> light = createLight(d, warning);  // in the z = 0 plane, emitting towards -z
+    ASSERT_TRUE(light) << warning;
+    for (Vec3 ref : {Vec3(0.9f, 0.4f, -0.05f), Vec3(3, -2, -1), Vec3(0.2f, 0.1f, -40)}) {
+        double sumInversePdf = 0, minPdf = kInf, maxPdf = 0;
+        const int n = 4096;
+        for (int i = 0; i < n; ++i) {
+            LightSample ls = light->sample(ref, Vec2((i % 64 + 0.5f) / 64, (i / 64 + 0.5f) / 64));
+            ASSERT_GT(ls.pdf, 0) << i;
+            Vec3 p = ref + ls.wi * ls.distance;
+            ASSERT_NEAR(p.z, 0, 1e-4f);
+            ASSERT_LE(std::fabs(p.x), 1 + 1e-4f);
+            ASSERT_LE(std::fabs(p.y), 0.5f + 1e-4f);
+            ASSERT_NEAR(ls.pdf, light->pdf(ref, ls.wi, ls.distance), 1e-4f * ls.pdf);
+            sumInversePdf += 1 / ls.pdf;
+            minPdf = std::min(minPdf, double(ls.pdf)), maxPdf = std::max(maxPdf, double(ls.pdf));
+        }
+        const int directions = 1 << 21;
+        int hits = 0;
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> uniform(0, 1);
+        for (int i = 0; i < directions; ++i) {
+            Ray ray{ref, sampleUniformSphere(Vec2(uniform(rng), uniform(rng))), 0, kInf};
+            hits += light->intersect(ray) < kInf;
+        }
+        double solidAngle = 4 * kPi * hits / directions;
+        double sd = 4 * kPi * std::sqrt(double(hits)) / directions;  // binomial, hits << directions
+        EXPECT_NEAR(sumInversePdf / n, solidAngle, 4 * sd + 1e-3 * solidAngle) << "from z = " << ref.z;
+        EXPECT_NEAR(minPdf, maxPdf, 1e-4 * maxPdf) << "uniform in solid angle, from z = " << ref.z;
+    }
+    // Behind the one-sided light: nothing.
+    EXPECT_EQ(light->sample(Vec3(0, 0, 1), Vec2(0.5f, 0.5f)).pdf, 0.0f);
+    EXPECT_EQ(light->pdf(Vec3(0, 0, 1), Vec3(0, 0, -1), 1), 0.0f);
 }
