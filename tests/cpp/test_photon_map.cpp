@@ -6,13 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <chrono>
-#include <numeric>
 #include <random>
 
 #include "renderer/integrators/kd_tree.h"
 #include "renderer/integrators/photon_final_gather.h"
 #include "renderer/integrators/photon_map.h"
+#include "indirect_error.h"
 #include "scenes.h"
 
 using namespace gi;
@@ -572,25 +571,6 @@ void buildGlassCornellBox(Scene& scene) {
     scene.setCamera(camera);
 }
 
-// Luminance means of the 4 x 4 pixel blocks: block means, so that the per-pixel noise of the
-// reference does not hide the photon maps' error.
-std::vector<double> blockLuminance(const std::vector<float>& rgb, int size) {
-    std::vector<double> blocks;
-    for (int by = 0; by + 4 <= size; by += 4)
-        for (int bx = 0; bx + 4 <= size; bx += 4) {
-            double sum = 0;
-            for (int y = by; y < by + 4; ++y)
-                for (int x = bx; x < bx + 4; ++x) {
-                    const float* p = &rgb[3 * (size_t(y) * size + x)];
-                    sum += luminance(Color(p[0], p[1], p[2]));
-                }
-            blocks.push_back(sum / 16);
-        }
-    return blocks;
-}
-
-double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / v.size(); }
-
 // Both integrators approach the path tracer (all paths to depth 30 on each side) at the rate their
 // estimators give as photons, gather photons and gather rays grow, and carry its energy.
 //
@@ -637,15 +617,7 @@ std::map<std::string, ConvergenceFigures> cornellConvergence(uint32_t seedBase, 
     };
     std::vector<double> path[2] = {blocksOf("path", 1024, deep, 101), blocksOf("path", 1024, deep, 102)};
     std::vector<double> direct[2] = {blocksOf("direct", 512, deep, 103), blocksOf("direct", 512, deep, 104)};
-    const size_t n = path[0].size();
-    std::vector<double> referenceIndirect(n);
-    double referenceVariance = 0;  // of a block of referenceIndirect: its halves' difference^2 / 4
-    for (size_t b = 0; b < n; ++b) {
-        referenceIndirect[b] = (path[0][b] + path[1][b]) / 2 - (direct[0][b] + direct[1][b]) / 2;
-        double dp = path[0][b] - path[1][b], dd = direct[0][b] - direct[1][b];
-        referenceVariance += (dp * dp + dd * dd) / 4 / n;
-    }
-    const double scale = mean(referenceIndirect);
+    const IndirectReference reference = indirectReference(path, direct);
     std::vector<std::vector<double>> directBySeed;
     for (int seed = 1; seed <= seeds; ++seed) directBySeed.push_back(blocksOf("direct", 16, deep, seed));
 
@@ -662,20 +634,14 @@ std::map<std::string, ConvergenceFigures> cornellConvergence(uint32_t seedBase, 
             params.insert({{"photons", b.photons}, {"causticPhotons", b.photons}, {"gatherPhotons", b.gatherPhotons},
                            {"finalGatherSamples", b.finalGatherSamples}, {"paths", b.paths}});
             for (int seed = 1; seed <= seeds; ++seed) {
-                std::vector<double> image = blocksOf(integrator, 16, params, seed);
-                double squared = 0, sum = 0;
-                for (size_t i = 0; i < n; ++i) {
-                    double indirect = image[i] - directBySeed[seed - 1][i];
-                    squared += (indirect - referenceIndirect[i]) * (indirect - referenceIndirect[i]) / n;
-                    sum += indirect / n;
-                }
-                e2[level] += (squared - referenceVariance) / (scale * scale) / seeds;
-                if (level) indirectMean += sum / scale / seeds;
+                IndirectError e = indirectError(blocksOf(integrator, 16, params, seed), directBySeed[seed - 1], reference);
+                e2[level] += e.e2 / seeds;
+                if (level) indirectMean += e.mean / seeds;
             }
         }
         std::printf("[ cornell  ] %s: indirect e^2 %.5f -> %.5f (ratio %.1f), indirect mean %.4f of the reference's"
                     " (reference noise %.5f)\n",
-                    integrator, e2[0], e2[1], e2[0] / e2[1], indirectMean, referenceVariance / (scale * scale));
+                    integrator, e2[0], e2[1], e2[0] / e2[1], indirectMean, reference.variance / (reference.mean * reference.mean));
         figures[integrator] = {e2[0], e2[1], indirectMean};
     }
     return figures;
