@@ -425,8 +425,10 @@ TEST(PhotonMapRender, LightSealedInABoxEmitsNoPhotons) {
         double stored = without.stats.integrator.at("globalMapPhotons");
         EXPECT_NEAR(withBulb.stats.integrator.at("globalMapPhotons"), stored, 4 * std::sqrt(stored)) << integrator;
         // Light sampling still picks the bulb now and then (and finds it occluded): noise, not bias.
+        // The ratio of the two images' means over seeds 1-8: sd 0.13% (final gathering), 0.19% (photon
+        // cache); 4 sd is 0.8%.
         double a = channelMean(withBulb.rgb, 1), b = channelMean(without.rgb, 1);
-        EXPECT_NEAR(a, b, 0.05 * b) << integrator;
+        EXPECT_NEAR(a, b, 0.008 * b) << integrator;
     }
 }
 
@@ -474,6 +476,11 @@ TEST(PhotonMapRender, ColouredCausticMatchesThePathTracer) {
     Scene reference;
     build(reference);
     Render path = render(reference, "path", 16, 1024, {{"pathDepth", 5}});
+    // Each channel's mean over the path tracer's, over seeds 1-6 (photons seed s, path tracer s + 100):
+    // final gathering 0.98-1.02, sd 1.1%, the reference's noise (0.5%) included: 4 sd is 4.5%. The
+    // photon cache 0.99-1.02 on five seeds, but seed 3 reads 1.11 in red (its path-traced records
+    // now and then catch a caustic path the caustic map also holds): sd 4.3%, 4 sd 17%.
+    const std::map<std::string, double> bound = {{"photonMapFinalGather", 0.045}, {"photonMapIrradianceCache", 0.17}};
     for (const char* integrator : kPhotonIntegrators) {
         Scene scene;
         build(scene);
@@ -482,7 +489,7 @@ TEST(PhotonMapRender, ColouredCausticMatchesThePathTracer) {
         EXPECT_GT(photons.stats.integrator.at("causticMapPhotons"), 10000) << integrator;
         for (int c = 0; c < 3; ++c) {
             double p = channelMean(photons.rgb, c), expected = channelMean(path.rgb, c);
-            EXPECT_NEAR(p, expected, 0.1 * expected) << integrator << " channel " << c;
+            EXPECT_NEAR(p, expected, bound.at(integrator) * expected) << integrator << " channel " << c;
         }
         // The caustic is coloured by the glass: less blue than red.
         EXPECT_LT(channelMean(photons.rgb, 2), 0.8 * channelMean(photons.rgb, 0)) << integrator;
@@ -698,3 +705,4 @@ TEST(PhotonMapRegistry, BothIntegratorsReflectTheirParameters) {
 }
 
 }  // namespace
+
