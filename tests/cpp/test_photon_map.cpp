@@ -424,11 +424,13 @@ TEST(PhotonMapRender, LightSealedInABoxEmitsNoPhotons) {
         // emission guide): a Poisson count of n photons varies by sqrt(n), 4 sigma allowed.
         double stored = without.stats.integrator.at("globalMapPhotons");
         EXPECT_NEAR(withBulb.stats.integrator.at("globalMapPhotons"), stored, 4 * std::sqrt(stored)) << integrator;
-        // Light sampling still picks the bulb now and then (and finds it occluded): noise, not bias.
-        // The ratio of the two images' means over seeds 1-8: sd 0.13% (final gathering), 0.19% (photon
-        // cache); 4 sd is 0.8%.
+        // Light sampling still picks the bulb (and finds it occluded): noise, not bias. Near the box
+        // the light BVH (light_sampler.h) weighs the bulb by its importance there, so half or more
+        // of those samples go to it and the sky gets fewer. The ratio of the two images' means over
+        // seeds 1-8: 1.0050 sd 0.46% (final gathering), 1.0041 sd 0.35% (photon cache); 4 sd of
+        // the larger is 1.8%. (With light picked by power alone it was sd 0.13% and 0.19%.)
         double a = channelMean(withBulb.rgb, 1), b = channelMean(without.rgb, 1);
-        EXPECT_NEAR(a, b, 0.008 * b) << integrator;
+        EXPECT_NEAR(a, b, 0.018 * b) << integrator;
     }
 }
 
