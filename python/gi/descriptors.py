@@ -67,17 +67,27 @@ class _LightDesc:
     visible_to_camera: bool = True
 
 
+def _camera_fallback(attribute):
+    """UsdGeomCamera's fallback value of `attribute`, from the schema itself (renderer/camera_desc.h
+    holds the same defaults for the compiled core)."""
+    def fallback():
+        from pxr import Usd
+        value = Usd.SchemaRegistry().FindConcretePrimDefinition("Camera").GetAttributeFallbackValue(attribute)
+        return value if isinstance(value, str) else float(value)
+    return field(default_factory=fallback)
+
+
 @dataclass
 class _CameraDesc:
     name: str = ""
-    projection: str = "perspective"
-    focal_length: float = 50.0
-    horizontal_aperture: float = 20.955
-    vertical_aperture: float = 15.2908
-    horizontal_aperture_offset: float = 0.0
-    vertical_aperture_offset: float = 0.0
-    f_stop: float = 0.0
-    focus_distance: float = 0.0
+    projection: str = _camera_fallback("projection")
+    focal_length: float = _camera_fallback("focalLength")
+    horizontal_aperture: float = _camera_fallback("horizontalAperture")
+    vertical_aperture: float = _camera_fallback("verticalAperture")
+    horizontal_aperture_offset: float = _camera_fallback("horizontalApertureOffset")
+    vertical_aperture_offset: float = _camera_fallback("verticalApertureOffset")
+    f_stop: float = _camera_fallback("fStop")
+    focus_distance: float = _camera_fallback("focusDistance")
     clipping_range: tuple = (1e-4, 1e30)
     shutter_open: float = 0.0
     shutter_close: float = 0.0

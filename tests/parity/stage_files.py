@@ -36,3 +36,53 @@ def prepare(stage, directory):
         if f"@{name}@" in text:
             _core.write_rgb_exr(str(directory / name), np.ascontiguousarray(pixels()))
     return target
+
+
+# camera_conform.usda's render settings overridden: (aspectRatioConformPolicy, pixelAspectRatio).
+CONFORM_CASES = [("cropAperture", 1.0), ("adjustApertureWidth", 0.5), ("adjustApertureHeight", 0.5),
+                 ("adjustPixelAspectRatio", 1.0), ("expandAperture", 0.5)]
+
+
+def conform_layer(path, stage, policy, pixel_aspect, product=None, settings=""):
+    """A layer over `stage` (a prepared camera_conform.usda) whose render settings use `policy` and
+    `pixel_aspect`; with `product` (a file path) they also declare one RenderProduct written there,
+    the beauty and the depth (which follows each ray's direction to its last bits, where the
+    beauty, a covered fraction, rarely changes), what makes usdrecord render the settings'
+    resolution and framing. `settings`:
+    more lines for the settings prim (gi:* attributes). Returns `path`."""
+    product_lines = ""
+    if product is not None:
+        product_lines = f'''
+    def RenderProduct "Image"
+    {{
+        token productName = "{product}"
+        rel orderedVars = [</Render/Color>, </Render/Depth>]
+    }}
+    def RenderVar "Color"
+    {{
+        string sourceName = "color"
+        token dataType = "color3f"
+    }}
+    def RenderVar "Depth"
+    {{
+        string sourceName = "depth"
+        token dataType = "float"
+    }}'''
+    Path(path).write_text(f'''#usda 1.0
+(
+    subLayers = [@{Path(stage).resolve()}@]
+    renderSettingsPrimPath = "/Render/Settings"
+)
+
+over "Render"
+{{
+    over "Settings"
+    {{
+        uniform token aspectRatioConformPolicy = "{policy}"
+        uniform float pixelAspectRatio = {pixel_aspect!r}
+        {"rel products = </Render/Image>" if product is not None else ""}
+        {settings}
+    }}{product_lines}
+}}
+''')
+    return Path(path)

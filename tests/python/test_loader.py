@@ -557,6 +557,18 @@ def test_loader_runs_without_the_compiled_core():
     assert proc.stdout.split() == ["5", "1", "1"]
 
 
+def test_camera_defaults_are_the_schemas_in_both_descriptors():
+    """The compiled CameraDesc's defaults (renderer/camera_desc.h, written once for both hosts) and
+    the pure-Python stand-in's (read from the schema) are UsdGeomCamera's fallbacks."""
+    pytest.importorskip("gi._core")
+    from gi import _core, descriptors
+    core, stand_in = _core.CameraDesc(), descriptors.PYTHON_DESCRIPTORS["CameraDesc"]()
+    assert core.projection == stand_in.projection
+    for name in ("focal_length", "horizontal_aperture", "vertical_aperture", "horizontal_aperture_offset",
+                 "vertical_aperture_offset", "f_stop", "focus_distance"):
+        assert getattr(core, name) == pytest.approx(getattr(stand_in, name), rel=1e-7), name
+
+
 # -- the command line's generated flags (no core needed) -----------------------------------------
 
 CATALOG = [
