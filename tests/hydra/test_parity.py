@@ -64,21 +64,23 @@ def test_editing_a_readers_varname_repicks_the_uvs(tmp_path):
     assert np.array_equal(upright, back)
 
 
-@pytest.mark.parametrize("policy, pixel_aspect", stage_files.CONFORM_CASES)
-def test_conform_policy_agrees(tmp_path, policy, pixel_aspect):
+@pytest.mark.parametrize("policy, pixel_aspect, inherited",
+                         [(*case, False) for case in stage_files.CONFORM_CASES] + [("cropAperture", 1.0, True)])
+def test_conform_policy_agrees(tmp_path, policy, pixel_aspect, inherited):
     """camera_conform.usda through a RenderProduct (usdrecord renders the settings' resolution and
     framing only for products; without one it sizes the image to the camera's aspect and lets
     Hydra's window policy conform it): both hosts follow the settings' aspectRatioConformPolicy
-    and pixelAspectRatio through renderer/camera_framing.h, and write the same beauty and depth
-    bit for bit.
+    and pixelAspectRatio through renderer/camera_framing.h, the product's own over the settings'
+    (a decoy there), or inherited from the settings, and write the same beauty and depth bit for
+    bit.
     tests/python/test_parity.py checks where the rectangle lands for each case."""
     scene = stage_files.prepare("camera_conform", tmp_path / "stage")
     gi_settings = 'custom string gi:integrator = "path"\n' \
                   f'        custom int gi:samples = {SPP}\n        custom int gi:seed = {SEED}'
     hydra_layer = stage_files.conform_layer(tmp_path / "stage/hydra.usda", scene, policy, pixel_aspect,
-                                            product=tmp_path / "hydra.exr", settings=gi_settings)
+                                            product=tmp_path / "hydra.exr", settings=gi_settings, inherited=inherited)
     cli_layer = stage_files.conform_layer(tmp_path / "stage/cli.usda", scene, policy, pixel_aspect,
-                                          product=tmp_path / "cli.exr", settings=gi_settings)
+                                          product=tmp_path / "cli.exr", settings=gi_settings, inherited=inherited)
     result = run_openusd(["usdrecord", "--disableGpu", "--renderer", "Gi", "--disableCameraLight",
                           "--colorCorrectionMode", "disabled", "--imageWidth", str(WIDTH), str(hydra_layer),
                           str(tmp_path / "usdrecord.exr")])

@@ -43,19 +43,35 @@ CONFORM_CASES = [("cropAperture", 1.0), ("adjustApertureWidth", 0.5), ("adjustAp
                  ("adjustPixelAspectRatio", 1.0), ("expandAperture", 0.5)]
 
 
-def conform_layer(path, stage, policy, pixel_aspect, product=None, settings=""):
-    """A layer over `stage` (a prepared camera_conform.usda) whose render settings use `policy` and
-    `pixel_aspect`; with `product` (a file path) they also declare one RenderProduct written there,
-    the beauty and the depth (which follows each ray's direction to its last bits, where the
-    beauty, a covered fraction, rarely changes), what makes usdrecord render the settings'
-    resolution and framing. `settings`:
-    more lines for the settings prim (gi:* attributes). Returns `path`."""
-    product_lines = ""
+# What the settings say when a product carries the case (each case differs from it): a host taking
+# the settings' framing instead of the product's would render a window four times as wide as tall.
+SETTINGS_DECOY = ("adjustApertureWidth", 2.0)
+
+
+def conform_layer(path, stage, policy, pixel_aspect, product=None, settings="", inherited=False):
+    """A layer over `stage` (a prepared camera_conform.usda) framed by `policy` and `pixel_aspect`.
+    Without `product` the render settings carry them. With `product` (a file path) the settings
+    declare one RenderProduct written there, which carries them while the settings say
+    SETTINGS_DECOY (the product's own values win over its settings'), or, `inherited`, which
+    authors none and inherits them from the settings, which carry them. It holds the beauty and the
+    depth (which follows each ray's direction to its last bits, where the beauty, a covered
+    fraction, rarely changes). Products are what make usdrecord render the settings' resolution
+    and framing. `settings`: more lines for the settings prim (gi:* attributes). Returns `path`."""
+    framing = f"""uniform token aspectRatioConformPolicy = "{policy}"
+        uniform float pixelAspectRatio = {pixel_aspect!r}"""
+    settings_framing, product_lines = framing, ""
+    if product is not None and inherited:
+        settings_framing, framing = framing + "\n        rel products = </Render/Image>", ""
+    elif product is not None:
+        settings_framing = f"""uniform token aspectRatioConformPolicy = "{SETTINGS_DECOY[0]}"
+        uniform float pixelAspectRatio = {SETTINGS_DECOY[1]!r}
+        rel products = </Render/Image>"""
     if product is not None:
         product_lines = f'''
     def RenderProduct "Image"
     {{
         token productName = "{product}"
+        {framing}
         rel orderedVars = [</Render/Color>, </Render/Depth>]
     }}
     def RenderVar "Color"
@@ -78,9 +94,7 @@ over "Render"
 {{
     over "Settings"
     {{
-        uniform token aspectRatioConformPolicy = "{policy}"
-        uniform float pixelAspectRatio = {pixel_aspect!r}
-        {"rel products = </Render/Image>" if product is not None else ""}
+        {settings_framing}
         {settings}
     }}{product_lines}
 }}
