@@ -67,6 +67,7 @@ class RecordingScene(CountingScene):
         self.materials, self.shapes, self.prototypes, self.lights = [], [], [], []
         self.instances = []   # (prototype, transform)
         self.camera = None
+        self.framing = None  # the render settings' (conform policy, pixel aspect ratio); None: none
 
     def add_material(self, material):
         self.materials.append(material)
@@ -105,6 +106,7 @@ def record(path, camera=None):
     from gi.loader import load_stage
     scene = RecordingScene()
     loaded = load_stage(str(path), scene=scene, camera=camera)
+    scene.framing = loaded.framing
     return scene, loaded
 
 
@@ -317,8 +319,13 @@ def environment(mi, lights):
     return {"type": "envmap", "bitmap": mi.Bitmap(image)}
 
 
-def camera_dict(mi, camera, resolution, spp, seed):
+def camera_dict(mi, camera, resolution, spp, seed, framing=None):
     width, height = resolution
+    # The conversion restates only the schema's default framing (an independent reading of
+    # UsdGeomCamera, not gi's renderer/camera_framing.h); any other is refused.
+    if framing is not None and tuple(framing) != ("expandAperture", 1.0):
+        raise ConversionError(f"{camera.name}: aspectRatioConformPolicy and pixelAspectRatio {tuple(framing)} "
+                              f"are not converted (only expandAperture with square pixels)")
     if camera.projection != "perspective":
         raise ConversionError(f"{camera.name}: {camera.projection} cameras are not converted")
     if camera.horizontal_aperture_offset or camera.vertical_aperture_offset:
@@ -423,7 +430,7 @@ def mitsuba_scene(recorded, resolution, spp=1, seed=0, rr_depth=3):
     default_material = descriptors._MaterialDesc()
     bsdfs, scene, approximated_triangles = {}, {"type": "scene"}, 0
     scene["integrator"] = {"type": "path", "max_depth": -1, "rr_depth": rr_depth, "hide_emitters": False}
-    scene["sensor"] = camera_dict(mi, recorded.camera, resolution, spp, seed)
+    scene["sensor"] = camera_dict(mi, recorded.camera, resolution, spp, seed, recorded.framing)
     for index, (shape, transform) in enumerate(world_shapes(recorded)):
         material = recorded.materials[shape.material] if shape.material >= 0 else default_material
         if shape.material not in bsdfs:

@@ -21,7 +21,7 @@ struct HdGiGprimState {
     std::vector<GfMatrix4d> transformSamples;
     bool doubleSided = true;
     bool hasDisplayColor = false;
-    GfVec3f displayColor{0.18f};
+    GfVec3f displayColor{0.0f};  // read only when hasDisplayColor (else the spec's default diffuse)
     bool instanced = false;
     std::vector<GfMatrix4d> instances;
     std::vector<float> instanceTimes;  // the instances' motion samples (HdGiGeometry's)

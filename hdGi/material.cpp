@@ -90,12 +90,13 @@ public:
             if (texture->file.empty() && !asset.GetAssetPath().empty())
                 _param->Warn(c->upstreamNode, "texture file '" + asset.GetAssetPath() + "' was not found; using its fallback");
         }
-        texture->wrapS = AsToken(ParamOf(*node, "wrapS"), "useMetadata");
-        texture->wrapT = AsToken(ParamOf(*node, "wrapT"), "useMetadata");
+        // An unauthored parameter keeps TextureDesc's default, the spec's (renderer/texture.h).
+        texture->wrapS = AsToken(ParamOf(*node, "wrapS"), texture->wrapS);
+        texture->wrapT = AsToken(ParamOf(*node, "wrapT"), texture->wrapT);
         AsFloat4(ParamOf(*node, "scale"), texture->scale);
         AsFloat4(ParamOf(*node, "bias"), texture->bias);
         AsFloat4(ParamOf(*node, "fallback"), texture->fallback);
-        texture->sourceColorSpace = AsToken(ParamOf(*node, "sourceColorSpace"), "auto");
+        texture->sourceColorSpace = AsToken(ParamOf(*node, "sourceColorSpace"), texture->sourceColorSpace);
         std::string output = c->upstreamOutputName.GetString();
         texture->channel = output == "r" || output == "g" || output == "b" || output == "a" ? output : "rgb";
         std::string varname = ReadStNetwork(*node, texture);
@@ -111,7 +112,7 @@ private:
         HdMaterialConnection2 const* c = Upstream(textureNode, "st");
         HdMaterialNode2 const* node = c ? Node(c->upstreamNode) : nullptr;
         if (node && node->nodeTypeId == TfToken("UsdTransform2d")) {
-            texture->stRotation = AsFloat(ParamOf(*node, "rotation"), 0);
+            texture->stRotation = AsFloat(ParamOf(*node, "rotation"), texture->stRotation);
             VtValue scale = ParamOf(*node, "scale"), translation = ParamOf(*node, "translation");
             if (scale.IsHolding<GfVec2f>())
                 texture->stScale = gi::Vec2(scale.UncheckedGet<GfVec2f>()[0], scale.UncheckedGet<GfVec2f>()[1]);
@@ -145,22 +146,22 @@ std::shared_ptr<gi::MaterialDesc> HdGiMaterialFromNetwork(SdfPath const& id, HdM
     NetworkReader reader(id, network, param);
     auto d = std::make_shared<gi::MaterialDesc>();
     d->name = id.GetString();
-    gi::Color defaultDiffuse(0.18f), black(0.0f);
-    d->diffuseColor = AsColor(ParamOf(s, "diffuseColor"), defaultDiffuse);
-    d->emissiveColor = AsColor(ParamOf(s, "emissiveColor"), black);
+    // An unauthored input keeps MaterialDesc's default, the spec's (renderer/material.h).
+    d->diffuseColor = AsColor(ParamOf(s, "diffuseColor"), d->diffuseColor);
+    d->emissiveColor = AsColor(ParamOf(s, "emissiveColor"), d->emissiveColor);
     VtValue workflow = ParamOf(s, "useSpecularWorkflow");
     d->useSpecularWorkflow = workflow.IsHolding<int>() ? workflow.UncheckedGet<int>() != 0
                              : workflow.IsHolding<bool>() ? workflow.UncheckedGet<bool>()
-                                                          : false;
-    d->specularColor = AsColor(ParamOf(s, "specularColor"), black);
-    d->metallic = AsFloat(ParamOf(s, "metallic"), 0);
-    d->roughness = AsFloat(ParamOf(s, "roughness"), 0.5f);
-    d->clearcoat = AsFloat(ParamOf(s, "clearcoat"), 0);
-    d->clearcoatRoughness = AsFloat(ParamOf(s, "clearcoatRoughness"), 0.01f);
-    d->opacity = AsFloat(ParamOf(s, "opacity"), 1);
-    d->opacityMode = AsToken(ParamOf(s, "opacityMode"), "transparent");
-    d->opacityThreshold = AsFloat(ParamOf(s, "opacityThreshold"), 0);
-    d->ior = AsFloat(ParamOf(s, "ior"), 1.5f);
+                                                          : d->useSpecularWorkflow;
+    d->specularColor = AsColor(ParamOf(s, "specularColor"), d->specularColor);
+    d->metallic = AsFloat(ParamOf(s, "metallic"), d->metallic);
+    d->roughness = AsFloat(ParamOf(s, "roughness"), d->roughness);
+    d->clearcoat = AsFloat(ParamOf(s, "clearcoat"), d->clearcoat);
+    d->clearcoatRoughness = AsFloat(ParamOf(s, "clearcoatRoughness"), d->clearcoatRoughness);
+    d->opacity = AsFloat(ParamOf(s, "opacity"), d->opacity);
+    d->opacityMode = AsToken(ParamOf(s, "opacityMode"), d->opacityMode);
+    d->opacityThreshold = AsFloat(ParamOf(s, "opacityThreshold"), d->opacityThreshold);
+    d->ior = AsFloat(ParamOf(s, "ior"), d->ior);
 
     // A textured input's constant becomes the texture's fallback (renderer/usd_shading.h).
     for (char const* input : {"diffuseColor", "emissiveColor", "specularColor", "metallic", "roughness", "opacity", "normal"}) {

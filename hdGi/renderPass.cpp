@@ -27,57 +27,90 @@ GfRect2i DataWindow(HdRenderPassStateSharedPtr const& state) {
     return GfRect2i(GfVec2i(0), int(vp[2]), int(vp[3]));
 }
 
-gi::CameraDesc CameraOf(HdCamera const* camera, GfMatrix4d const& view, GfMatrix4d const& projection) {
+// The camera sprim's UsdGeomCamera attributes as Hydra holds them, for the renderer's camera
+// rule (renderer/camera_framing.h), which `gi render` fills from the same attributes on the
+// stage. Lengths stay in Hydra's scene units (UsdImaging's conversion of USD's tenths; the rule
+// converts USD's tenths the same way), so both hosts start from the same floats.
+gi::CameraDesc CameraOf(HdCamera const& camera) {
     gi::CameraDesc desc;
-    desc.name = camera ? camera->GetId().GetString() : "<viewport camera>";
-    desc.transform = HdGiToMat4(view.GetInverse());
-    desc.useProjection = true;
-    desc.projectionMatrix = HdGiToMat4(projection);
-    desc.projection = std::round(projection[3][3]) == 1 ? "orthographic" : "perspective";
-    if (camera) {
-        // HdCamera's lengths are in scene units; the renderer's (as UsdGeomCamera's) in tenths.
-        desc.focalLength = camera->GetFocalLength() * 10.0f;
-        desc.fStop = camera->GetFStop();
-        desc.focusDistance = camera->GetFocusDistance();
-        desc.clipNear = camera->GetClippingRange().GetMin();
-        desc.clipFar = camera->GetClippingRange().GetMax();
-        // Relative to the frame, as SampleTransform's and SamplePrimvar's times (motion blur).
-        desc.shutterOpen = float(camera->GetShutterOpen());
-        desc.shutterClose = float(camera->GetShutterClose());
-        // A camera moving during the shutter, when it is the one the view comes from (usdview's
-        // free camera is not).
-        if (auto const* gi = dynamic_cast<HdGiCamera const*>(camera); gi && GfIsClose(camera->GetTransform(), view.GetInverse(), 1e-9))
-            for (GfMatrix4d const& m : gi->MotionSteps()) desc.motionTransforms.push_back(HdGiToMat4(m));
-    }
+    desc.name = camera.GetId().GetString();
+    desc.transform = HdGiToMat4(camera.GetTransform());
+    desc.projection = camera.GetProjection() == HdCamera::Orthographic ? "orthographic" : "perspective";
+    desc.lengthUnit = gi::CameraLengthUnit::SceneUnit;
+    desc.focalLength = camera.GetFocalLength();
+    desc.horizontalAperture = camera.GetHorizontalAperture();
+    desc.verticalAperture = camera.GetVerticalAperture();
+    desc.horizontalApertureOffset = camera.GetHorizontalApertureOffset();
+    desc.verticalApertureOffset = camera.GetVerticalApertureOffset();
+    desc.fStop = camera.GetFStop();
+    desc.focusDistance = camera.GetFocusDistance();
+    desc.clipNear = camera.GetClippingRange().GetMin();
+    desc.clipFar = camera.GetClippingRange().GetMax();
+    // Relative to the frame, as SampleTransform's and SamplePrimvar's times (motion blur).
+    desc.shutterOpen = float(camera.GetShutterOpen());
+    desc.shutterClose = float(camera.GetShutterClose());
+    if (auto const* gi = dynamic_cast<HdGiCamera const*>(&camera))
+        for (GfMatrix4d const& m : gi->MotionSteps()) desc.motionTransforms.push_back(HdGiToMat4(m));
     return desc;
 }
 
+// Hydra's conform window policies are UsdRenderSettings' aspectRatioConformPolicy tokens under
+// other names (CameraUtilConformWindowPolicy's documentation).
+gi::ApertureConform ConformOf(CameraUtilConformWindowPolicy policy) {
+    switch (policy) {
+        case CameraUtilMatchVertically: return gi::ApertureConform::AdjustApertureWidth;
+        case CameraUtilMatchHorizontally: return gi::ApertureConform::AdjustApertureHeight;
+        case CameraUtilCrop: return gi::ApertureConform::CropAperture;
+        case CameraUtilDontConform: return gi::ApertureConform::AdjustPixelAspectRatio;
+        case CameraUtilFit: break;
+    }
+    return gi::ApertureConform::ExpandAperture;
+}
+
+// An interactive host's framing: its window policy, and its display window (where the camera's
+// frame lies in the pixels rendered, the data window; usdview may show more than the frame).
+gi::ImageFraming ViewportFraming(HdRenderPassStateSharedPtr const& state, GfRect2i const& dataWindow) {
+    gi::ImageFraming framing;
+    framing.conform = ConformOf(state->GetWindowPolicy());
+    CameraUtilFraming const& hydra = state->GetFraming();
+    if (!hydra.IsValid() || dataWindow.IsEmpty()) return framing;
+    GfVec2f const origin(float(dataWindow.GetMinX()), float(dataWindow.GetMinY()));
+    GfVec2f const size(float(dataWindow.GetWidth()), float(dataWindow.GetHeight()));
+    GfVec2f const from = hydra.displayWindow.GetMin() - origin, to = hydra.displayWindow.GetMax() - origin;
+    framing.displayLeft = from[0] / size[0];
+    framing.displayTop = from[1] / size[1];
+    framing.displayRight = to[0] / size[0];
+    framing.displayBottom = to[1] / size[1];
+    framing.pixelAspectRatio = hydra.pixelAspectRatio;
+    return framing;
+}
+
 // A batch host's render products (usdrecord sets enableInteractive false) are rendered as the
-// stage declares them: the first product's camera and resolution, instead of the host's viewport.
-bool ProductFraming(HdRenderIndex* index, HdRenderSettings::RenderProducts const& products, gi::CameraDesc* camera,
-                    GfRect2i* dataWindow, std::string* problem) {
+// stage declares them: the first product's camera, resolution, aspect ratio conform policy and
+// pixel aspect ratio, instead of the host's viewport.
+bool ProductFraming(HdRenderIndex* index, HdRenderSettings::RenderProducts const& products,
+                    std::optional<gi::CameraDesc>* camera, gi::ImageFraming* framing, GfRect2i* dataWindow,
+                    std::vector<std::string>* problems) {
     HdRenderSettings::RenderProduct const& product = products.front();
     if (product.resolution[0] <= 0 || product.resolution[1] <= 0) return false;
     auto const* sprim = dynamic_cast<HdCamera const*>(index->GetSprim(HdPrimTypeTokens->camera, product.cameraPath));
+    std::string const where = "render product " + product.productPath.GetString();
     if (!sprim) {
-        *problem = "render product " + product.productPath.GetString() + ": camera <" + product.cameraPath.GetString() +
-                   "> is not in the scene; the host's camera and image size are used";
+        problems->push_back(where + ": camera <" + product.cameraPath.GetString() +
+                            "> is not in the scene; the host's camera and image size are used");
         return false;
     }
-    *camera = CameraOf(sprim, sprim->GetTransform().GetInverse(), GfMatrix4d(1.0));
-    camera->useProjection = false;
-    camera->projection = sprim->GetProjection() == HdCamera::Orthographic ? "orthographic" : "perspective";
-    // UsdGeomCamera's tenths of a unit, as `gi render` reads them; the renderer conforms them to
-    // the resolution (renderer/camera.cpp). UsdImaging's scene index leaves the product's own
-    // conformed apertureSize at 0.
-    camera->horizontalAperture = float(sprim->GetHorizontalAperture() * 10.0);
-    camera->verticalAperture = float(sprim->GetVerticalAperture() * 10.0);
-    camera->horizontalApertureOffset = float(sprim->GetHorizontalApertureOffset() * 10.0);
-    camera->verticalApertureOffset = float(sprim->GetVerticalApertureOffset() * 10.0);
+    *camera = CameraOf(*sprim);
+    *framing = gi::ImageFraming();
+    // The flattened product holds the settings' policy when the product authors none.
+    std::string const policy = product.aspectRatioConformPolicy.GetString();
+    if (!policy.empty() && !gi::parseApertureConform(policy, &framing->conform))
+        problems->push_back(where + ": aspectRatioConformPolicy '" + policy + "' is unknown; " +
+                            gi::apertureConformToken(framing->conform) + " is used");
+    framing->pixelAspectRatio = product.pixelAspectRatio;
     *dataWindow = GfRect2i(GfVec2i(0), product.resolution[0], product.resolution[1]);
     if (product.dataWindowNDC != GfRange2f(GfVec2f(0.0f), GfVec2f(1.0f)))
-        *problem = "render product " + product.productPath.GetString() + ": dataWindowNDC is not supported through "
-                   "Hydra; the whole image is rendered";
+        problems->push_back(where + ": dataWindowNDC is not supported through Hydra; the whole image is rendered");
     return true;
 }
 
@@ -92,14 +125,25 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
     GfMatrix4d view = state->GetWorldToViewMatrix(), projection = state->GetProjectionMatrix();
     if (view != _view || projection != _projection) restart = true;
     GfRect2i dataWindow = DataWindow(state);
-    gi::CameraDesc camera = CameraOf(state->GetCamera(), view, projection);
+    // Every Hydra host gives the pass a camera sprim: a scene camera, or usdview's and usdrecord's
+    // free camera (HdxFreeCameraSceneDelegate, whose UsdGeomCamera attributes GfCamera derives
+    // from the viewport's view and projection matrices), so its attributes are always there for
+    // the shared rule. Without one (Hydra's matrices are then the identity) the renderer frames
+    // the whole scene, as `gi render` does for a stage without a camera.
+    std::optional<gi::CameraDesc> camera;
+    if (HdCamera const* sprim = state->GetCamera()) camera = CameraOf(*sprim);
+    else if (!_warnedNoCamera) {
+        _warnedNoCamera = true;
+        _param->Warn("the render pass has no camera; using one that frames the whole scene");
+    }
+    gi::ImageFraming framing = ViewportFraming(state, dataWindow);
     HdRenderSettings::RenderProducts products;
     bool productMode = false;
     if (!delegate->GetRenderSetting<bool>(HdRenderSettingsTokens->enableInteractive, true) &&
         !(products = _param->Products()).empty()) {
-        std::string problem;
-        productMode = ProductFraming(GetRenderIndex(), products, &camera, &dataWindow, &problem);
-        if (!problem.empty()) _param->Warn(problem);
+        std::vector<std::string> problems;
+        productMode = ProductFraming(GetRenderIndex(), products, &camera, &framing, &dataWindow, &problems);
+        for (std::string const& problem : problems) _param->Warn(problem);
     }
     if (dataWindow != _dataWindow) restart = true;
     HdRenderPassAovBindingVector aovs = state->GetAovBindings();
@@ -133,6 +177,7 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
 
     HdGiRenderJob job;
     job.settings = HdGiReadSettings(*delegate);
+    job.settings.framing = framing;
     job.denoise = HdGiReadDenoise(*delegate);
     job.products = products;
     job.productMode = productMode;

@@ -29,6 +29,7 @@ private:
     int _sceneVersion = -1, _settingsVersion = -1;
     GfMatrix4d _view{0.0}, _projection{0.0};
     GfRect2i _dataWindow;
+    bool _warnedNoCamera = false;
     HdRenderPassAovBindingVector _aovs;
     bool _started = false;
 };

@@ -51,7 +51,7 @@ void HdGiRenderSession::Run() {
     if (job.aovs.empty() || job.dataWindow.IsEmpty()) return;
 
     int version = _param->SceneVersion();
-    GfVec2f const shutter(job.camera.shutterOpen, job.camera.shutterClose);
+    GfVec2f const shutter = job.camera ? GfVec2f(job.camera->shutterOpen, job.camera->shutterClose) : GfVec2f(0.0f);
     if (!_scene || version != _sceneVersion || job.domeLightCameraVisibility != _sceneDomeVisible ||
         shutter != _sceneShutter) {
         auto buildStart = Clock::now();
@@ -71,7 +71,7 @@ void HdGiRenderSession::Run() {
     settings.height = job.dataWindow.GetHeight();
     std::unique_ptr<gi::Renderer> renderer;
     try {
-        renderer = std::make_unique<gi::Renderer>(*_scene, settings, &job.camera);
+        renderer = std::make_unique<gi::Renderer>(*_scene, settings, job.camera ? &*job.camera : nullptr);
     } catch (std::exception const& e) {
         TF_RUNTIME_ERROR("hdGi: cannot render: %s", e.what());
         return;

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include "pxr/base/gf/matrix4d.h"
 #include "pxr/base/gf/rect2i.h"
@@ -20,7 +21,7 @@ PXR_NAMESPACE_OPEN_SCOPE
 // Everything one render depends on besides the scene.
 struct HdGiRenderJob {
     gi::RenderSettings settings;
-    gi::CameraDesc camera;
+    std::optional<gi::CameraDesc> camera;  // none: the renderer's camera framing the whole scene
     GfMatrix4d projection{1.0};  // for the depth AOV (clip-space depth)
     GfRect2i dataWindow;
     HdRenderPassAovBindingVector aovs;

@@ -50,7 +50,7 @@ struct HdGiGeometry {
     std::vector<std::vector<GfMatrix4d>> instanceSamples;
     SdfPath material;
     bool hasDisplayColor = false;
-    GfVec3f displayColor{0.18f};
+    GfVec3f displayColor{0.0f};  // read only when hasDisplayColor (else the spec's default diffuse)
     bool doubleSided = true;
     int primId = -1;  // Hydra's id for picking
 };

@@ -79,6 +79,7 @@ RenderSettings pilotSettings(const RenderSettings& settings, const std::string& 
     ps.seed = seed;
     ps.threads = settings.threads;
     ps.filter = settings.filter;
+    ps.framing = settings.framing;  // in fractions of the image: the pilot's window is the image's
     return ps;
 }
 

@@ -104,7 +104,7 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
             break;
         }
     cameraDesc_ = desc;
-    camera_ = Camera(desc, settings.width, settings.height);
+    camera_ = Camera(desc, settings.width, settings.height, settings.framing);
 }
 
 bool Renderer::chooseAutomatically(const std::atomic<bool>* cancel, double deadline) {

@@ -29,6 +29,9 @@ struct RenderSettings {
     // pixels inside equal the whole image's bit for bit (for integrators that keep no state
     // across pixels during a pass; see gi.job). Empty: the whole image.
     PixelWindow window;
+    // How the camera's aperture fits the image (UsdRenderSettings' aspectRatioConformPolicy and
+    // pixelAspectRatio, or a Hydra host's framing): camera_framing.h.
+    ImageFraming framing;
     int spp = 16;
     std::string integrator = "path";
     ParamSet params;

@@ -138,6 +138,10 @@ class RenderSettings:
     filter: str                    # pixel reconstruction filter: 'box' (default) | 'gaussian'
     data_window: tuple[int, int, int, int]  # (x0, y0, x1, y1): render only pixels [x0, x1) x [y0, y1), equal bit
                                    # for bit to the whole image's there; (0, 0, 0, 0) = the whole image
+    aspect_ratio_conform_policy: str  # UsdRenderSettings' token: 'expandAperture' (default) | 'cropAperture' |
+                                   # 'adjustApertureWidth' | 'adjustApertureHeight' | 'adjustPixelAspectRatio';
+                                   # another: ValueError
+    pixel_aspect_ratio: float      # a pixel's width over its height (default 1)
     def __init__(self) -> None: ...
 
 class RenderResult:

@@ -1,6 +1,7 @@
 """The descriptor classes the loader fills: gi._core's when the core is built, otherwise pure-Python
 stand-ins with the same fields and defaults (so the loader, `gi inspect` and the tests work
-without the compiled renderer)."""
+without the compiled renderer). The stand-ins read USD's defaults from the schemas and shader
+definitions themselves rather than restating them."""
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -10,36 +11,50 @@ def _identity():
     return np.eye(4, dtype=np.float64)
 
 
+def _spec_default(shader, name):
+    """The default of input `name` of the UsdPreviewSurface-family node `shader`, from its Sdr
+    definition (the spec's; renderer/material.h and texture.h hold the same for the compiled core)."""
+    def default():
+        from pxr import Sdr
+        value = Sdr.Registry().GetShaderNodeByIdentifier(shader).GetShaderInput(name).GetDefaultValue()
+        if isinstance(value, str):
+            return value
+        if isinstance(value, int):
+            return bool(value)  # useSpecularWorkflow
+        return tuple(float(v) for v in value) if hasattr(value, "__len__") else float(value)
+    return field(default_factory=default)
+
+
 @dataclass
 class _TextureDesc:
     file: str = ""
-    wrap_s: str = "useMetadata"
-    wrap_t: str = "useMetadata"
-    scale: tuple = (1.0, 1.0, 1.0, 1.0)
-    bias: tuple = (0.0, 0.0, 0.0, 0.0)
-    fallback: tuple = (0.0, 0.0, 0.0, 1.0)
+    wrap_s: str = _spec_default("UsdUVTexture", "wrapS")
+    wrap_t: str = _spec_default("UsdUVTexture", "wrapT")
+    scale: tuple = _spec_default("UsdUVTexture", "scale")
+    bias: tuple = _spec_default("UsdUVTexture", "bias")
+    fallback: tuple = _spec_default("UsdUVTexture", "fallback")
     channel: str = "rgb"
-    source_color_space: str = "auto"
-    st_rotation: float = 0.0
-    st_scale: tuple = (1.0, 1.0)
-    st_translation: tuple = (0.0, 0.0)
+    source_color_space: str = _spec_default("UsdUVTexture", "sourceColorSpace")
+    st_rotation: float = _spec_default("UsdTransform2d", "rotation")
+    st_scale: tuple = _spec_default("UsdTransform2d", "scale")
+    st_translation: tuple = _spec_default("UsdTransform2d", "translation")
 
 
 @dataclass
 class _MaterialDesc:
     name: str = "default"
-    diffuse_color: tuple = (0.18, 0.18, 0.18)
-    emissive_color: tuple = (0.0, 0.0, 0.0)
-    use_specular_workflow: bool = False
-    specular_color: tuple = (0.0, 0.0, 0.0)
-    metallic: float = 0.0
-    roughness: float = 0.5
-    clearcoat: float = 0.0
-    clearcoat_roughness: float = 0.01
-    opacity: float = 1.0
-    opacity_mode: str = "transparent"
-    opacity_threshold: float = 0.0
-    ior: float = 1.5
+    diffuse_color: tuple = _spec_default("UsdPreviewSurface", "diffuseColor")
+    emissive_color: tuple = _spec_default("UsdPreviewSurface", "emissiveColor")
+    use_specular_workflow: bool = _spec_default("UsdPreviewSurface", "useSpecularWorkflow")
+    specular_color: tuple = _spec_default("UsdPreviewSurface", "specularColor")
+    metallic: float = _spec_default("UsdPreviewSurface", "metallic")
+    roughness: float = _spec_default("UsdPreviewSurface", "roughness")
+    clearcoat: float = _spec_default("UsdPreviewSurface", "clearcoat")
+    clearcoat_roughness: float = _spec_default("UsdPreviewSurface", "clearcoatRoughness")
+    opacity: float = _spec_default("UsdPreviewSurface", "opacity")
+    opacity_mode: str = _spec_default("UsdPreviewSurface", "opacityMode")
+    opacity_threshold: float = _spec_default("UsdPreviewSurface", "opacityThreshold")
+    ior: float = _spec_default("UsdPreviewSurface", "ior")
     diffuse_color_texture: _TextureDesc = field(default_factory=_TextureDesc)
     emissive_color_texture: _TextureDesc = field(default_factory=_TextureDesc)
     specular_color_texture: _TextureDesc = field(default_factory=_TextureDesc)
@@ -67,17 +82,27 @@ class _LightDesc:
     visible_to_camera: bool = True
 
 
+def _camera_fallback(attribute):
+    """UsdGeomCamera's fallback value of `attribute`, from the schema itself (renderer/camera_desc.h
+    holds the same defaults for the compiled core)."""
+    def fallback():
+        from pxr import Usd
+        value = Usd.SchemaRegistry().FindConcretePrimDefinition("Camera").GetAttributeFallbackValue(attribute)
+        return value if isinstance(value, str) else float(value)
+    return field(default_factory=fallback)
+
+
 @dataclass
 class _CameraDesc:
     name: str = ""
-    projection: str = "perspective"
-    focal_length: float = 50.0
-    horizontal_aperture: float = 20.955
-    vertical_aperture: float = 15.2908
-    horizontal_aperture_offset: float = 0.0
-    vertical_aperture_offset: float = 0.0
-    f_stop: float = 0.0
-    focus_distance: float = 0.0
+    projection: str = _camera_fallback("projection")
+    focal_length: float = _camera_fallback("focalLength")
+    horizontal_aperture: float = _camera_fallback("horizontalAperture")
+    vertical_aperture: float = _camera_fallback("verticalAperture")
+    horizontal_aperture_offset: float = _camera_fallback("horizontalApertureOffset")
+    vertical_aperture_offset: float = _camera_fallback("verticalApertureOffset")
+    f_stop: float = _camera_fallback("fStop")
+    focus_distance: float = _camera_fallback("focusDistance")
     clipping_range: tuple = (1e-4, 1e30)
     shutter_open: float = 0.0
     shutter_close: float = 0.0

@@ -46,6 +46,9 @@ class LoadedScene:
     # prims rendered with motion blur -> what moves ('transform', 'deformation'); empty when nothing moves
     moving: dict = field(default_factory=dict)
     shutter: object = None                           # motion.Shutter, or None (no motion blur)
+    # The render settings' (aspectRatioConformPolicy, pixelAspectRatio) (renderer/camera_framing.h);
+    # None without render settings: the renderer's defaults, which are the schema's
+    framing: tuple = None
 
 
 def matrix(gf_matrix):
@@ -399,6 +402,33 @@ def settings_resolution(settings, time):
     return (int(resolution[0]), int(resolution[1])) if resolution is not None else DEFAULT_RESOLUTION
 
 
+def image_framing(schema, time, inherited, warn):
+    """(aspectRatioConformPolicy, pixelAspectRatio) of a UsdRender settings or product prim: what
+    it authors, else `inherited` (a product inherits its settings'), else the schema's fallbacks.
+    A token the schema does not allow, or a pixel aspect ratio that is not a positive number,
+    warns naming the prim, and the value it would otherwise have is used."""
+    policy_attr, aspect_attr = schema.GetAspectRatioConformPolicyAttr(), schema.GetPixelAspectRatioAttr()
+    if inherited is None:
+        definition = Usd.SchemaRegistry().FindConcretePrimDefinition(schema.GetPrim().GetTypeName())
+        inherited = (str(definition.GetAttributeFallbackValue(policy_attr.GetName())),
+                     float(definition.GetAttributeFallbackValue(aspect_attr.GetName())))
+    policy, aspect = inherited
+    where = str(schema.GetPath())
+    if policy_attr.HasAuthoredValue():
+        token = str(policy_attr.Get(time))
+        if token in policy_attr.GetMetadata("allowedTokens"):
+            policy = token
+        else:
+            warn(where, f"aspectRatioConformPolicy '{token}' is unknown; {policy} is used")
+    if aspect_attr.HasAuthoredValue():
+        value = float(aspect_attr.Get(time))
+        if math.isfinite(value) and value > 0:
+            aspect = value
+        else:
+            warn(where, f"pixelAspectRatio {value:g} is not a positive number; {aspect:g} is used")
+    return policy, aspect
+
+
 def camera_prim(stage, settings, requested, file):
     """The `requested` camera path, else the render settings' camera, else the first camera, else None."""
     if requested:
@@ -513,6 +543,13 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
         loader.warn(str(settings.GetPath()), f"resolution could not be read ({error_text(error)}); "
                                              f"using {DEFAULT_RESOLUTION}")
         resolution = DEFAULT_RESOLUTION
+    framing = None
+    if settings is not None:
+        try:
+            framing = image_framing(settings, time, None, loader.warn)
+        except UNREADABLE as error:
+            loader.warn(str(settings.GetPath()), f"aspectRatioConformPolicy or pixelAspectRatio could not be read "
+                                                 f"({error_text(error)}); the schema's fallbacks are used")
     desc = None
     if prim is not None:
         try:
@@ -534,4 +571,5 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
 
     counts = dict(loader.counts, materials=loader.materials.added)
     return LoadedScene(scene, resolution, camera_path, loader.warnings, counts, dict(loader.light_kinds),
-                       dict(loader.materials.textures), sum(1 for _ in stage.TraverseAll()), loader.moving, shutter)
+                       dict(loader.materials.textures), sum(1 for _ in stage.TraverseAll()), loader.moving, shutter,
+                       framing)

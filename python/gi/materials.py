@@ -18,29 +18,28 @@ def error_text(error):
     lines = [line.strip() for line in str(error).splitlines() if line.strip()]
     return lines[-1] if lines else type(error).__name__
 
-# UsdPreviewSurface input -> (MaterialDesc field, its TextureDesc field, kind, the spec's default).
-# A None field means the renderer has no use for it (a constant there is ignored silently).
+# UsdPreviewSurface input -> (MaterialDesc field, its TextureDesc field, kind). A None field means
+# the renderer has no use for it (a constant there is ignored silently). An input with no value
+# keeps the descriptor's default: the spec's, written once in renderer/material.h.
 PREVIEW_SURFACE_INPUTS = {
-    "diffuseColor": ("diffuse_color", "diffuse_color_texture", "color", (0.18, 0.18, 0.18)),
-    "emissiveColor": ("emissive_color", "emissive_color_texture", "color", (0.0, 0.0, 0.0)),
-    "useSpecularWorkflow": ("use_specular_workflow", None, "bool", False),
-    "specularColor": ("specular_color", "specular_color_texture", "color", (0.0, 0.0, 0.0)),
-    "metallic": ("metallic", "metallic_texture", "float", 0.0),
-    "roughness": ("roughness", "roughness_texture", "float", 0.5),
-    "clearcoat": ("clearcoat", None, "float", 0.0),
-    "clearcoatRoughness": ("clearcoat_roughness", None, "float", 0.01),
-    "opacity": ("opacity", "opacity_texture", "float", 1.0),
-    "opacityMode": ("opacity_mode", None, "token", "transparent"),
-    "opacityThreshold": ("opacity_threshold", None, "float", 0.0),
-    "ior": ("ior", None, "float", 1.5),
-    "normal": (None, "normal_texture", "normal", (0.0, 0.0, 1.0)),
+    "diffuseColor": ("diffuse_color", "diffuse_color_texture", "color"),
+    "emissiveColor": ("emissive_color", "emissive_color_texture", "color"),
+    "useSpecularWorkflow": ("use_specular_workflow", None, "bool"),
+    "specularColor": ("specular_color", "specular_color_texture", "color"),
+    "metallic": ("metallic", "metallic_texture", "float"),
+    "roughness": ("roughness", "roughness_texture", "float"),
+    "clearcoat": ("clearcoat", None, "float"),
+    "clearcoatRoughness": ("clearcoat_roughness", None, "float"),
+    "opacity": ("opacity", "opacity_texture", "float"),
+    "opacityMode": ("opacity_mode", None, "token"),
+    "opacityThreshold": ("opacity_threshold", None, "float"),
+    "ior": ("ior", None, "float"),
+    "normal": (None, "normal_texture", "normal"),
 }
 
-# UsdUVTexture inputs read into TextureDesc, with the spec's defaults.
-TEXTURE_INPUTS = {"wrapS": ("wrap_s", "useMetadata"), "wrapT": ("wrap_t", "useMetadata"),
-                  "scale": ("scale", (1.0, 1.0, 1.0, 1.0)), "bias": ("bias", (0.0, 0.0, 0.0, 0.0)),
-                  "fallback": ("fallback", (0.0, 0.0, 0.0, 1.0)),
-                  "sourceColorSpace": ("source_color_space", "auto")}
+# UsdUVTexture inputs read into TextureDesc (unauthored: its default, the spec's, renderer/texture.h).
+TEXTURE_INPUTS = {"wrapS": "wrap_s", "wrapT": "wrap_t", "scale": "scale", "bias": "bias", "fallback": "fallback",
+                  "sourceColorSpace": "source_color_space"}
 CHANNELS = {"r": 0, "g": 1, "b": 2, "a": 3}
 
 
@@ -119,9 +118,9 @@ def read_st_network(texture, desc):
     source = input_source(texture, "st")
     if source.shader is not None and shader_id(source.shader) == "UsdTransform2d":
         transform = source.shader
-        desc.st_rotation = float(input_value(transform, "rotation", 0.0))
-        desc.st_scale = tuple(float(v) for v in input_value(transform, "scale", (1.0, 1.0)))
-        desc.st_translation = tuple(float(v) for v in input_value(transform, "translation", (0.0, 0.0)))
+        desc.st_rotation = float(input_value(transform, "rotation", desc.st_rotation))
+        desc.st_scale = tuple(float(v) for v in input_value(transform, "scale", desc.st_scale))
+        desc.st_translation = tuple(float(v) for v in input_value(transform, "translation", desc.st_translation))
         source = input_source(transform, "in")
     if source.shader is not None and shader_id(source.shader).startswith("UsdPrimvarReader"):
         return str(input_value(source.shader, "varname", ""))
@@ -131,9 +130,9 @@ def read_st_network(texture, desc):
 def read_texture(texture, output, material_path, warn, seen) -> TextureRead:
     desc = descriptors.TextureDesc()
     desc.file = texture_file(texture, material_path, warn, seen)
-    for name, (field, default) in TEXTURE_INPUTS.items():
-        value = input_value(texture, name, default)
-        setattr(desc, field, str(value) if isinstance(default, str) else tuple(float(v) for v in value))
+    for name, field in TEXTURE_INPUTS.items():
+        value = input_value(texture, name, getattr(desc, field))
+        setattr(desc, field, str(value) if isinstance(value, str) else tuple(float(v) for v in value))
     desc.channel = output if output in CHANNELS else "rgb"
     return TextureRead(desc, read_st_network(texture, desc))
 
@@ -164,18 +163,16 @@ def surface_shader(material):
 
 def read_input(shader, name, spec, desc, material_path, warn, textures):
     """Sets one UsdPreviewSurface input on `desc`; returns the uv primvar its texture reads, if any."""
-    field, texture_field, kind, default = spec
+    field, texture_field, kind = spec
     source = input_source(shader, name)
     if source.shader is None:
-        if field is not None:
-            setattr(desc, field, converted(default if source.value is None else source.value, kind))
+        if field is not None and source.value is not None:
+            setattr(desc, field, converted(source.value, kind))
         return ""
     if shader_id(source.shader) != "UsdUVTexture" or texture_field is None:
         warn(material_path, f"inputs:{name} is driven by {source.shader.GetPath()} "
                             f"({shader_id(source.shader) or 'no id'}), which is not supported there; "
                             f"using the default")
-        if field is not None:
-            setattr(desc, field, converted(default, kind))
         return ""
     texture = read_texture(source.shader, source.output, material_path, warn, textures)
     connect_texture(desc, name, field, texture_field, texture.desc)

@@ -8,13 +8,13 @@ are stored: renderer/render_vars.h holds those rules for both hosts (gi._core.re
 Problems warn naming the prim and leave out only what they
 concern: an unknown sourceName or dataType skips that var, a camera that is not there falls back to
 the render settings' camera, a data window outside the image is clipped to it."""
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 from pxr import UsdGeom, UsdRender
 
 from .errors import SceneError
+from .loader import image_framing
 from .loader import render_settings as stage_render_settings
 from .render import require_core
 
@@ -37,6 +37,7 @@ class Product:
     resolution: tuple          # (width, height)
     camera: str                # camera prim path ('' = the render settings' / the loaded scene's)
     data_window_ndc: tuple     # (xmin, ymin, xmax, ymax), y up as UsdRender has it
+    framing: tuple             # (aspectRatioConformPolicy, pixelAspectRatio), the settings' unless authored
     vars: list = field(default_factory=list)
 
 
@@ -76,6 +77,7 @@ def read_products(stage, settings, time, camera_override, warn):
         return []
     base_resolution = tuple(_attribute(settings.GetResolutionAttr(), time, (512, 512)))
     base_camera = camera_override or next((str(t) for t in settings.GetCameraRel().GetForwardedTargets()), "")
+    base_framing = image_framing(settings, time, None, lambda path, message: None)  # the loader warns
     products = []
     for target in settings.GetProductsRel().GetForwardedTargets():
         prim = stage.GetPrimAtPath(target)
@@ -91,13 +93,10 @@ def read_products(stage, settings, time, camera_override, warn):
                        f"{base_camera or 'the render settings camera'}")
             camera = base_camera if camera != base_camera else ""
         resolution = tuple(int(v) for v in _attribute(product.GetResolutionAttr(), time, base_resolution))
-        aspect = float(_attribute(product.GetPixelAspectRatioAttr(), time,
-                                  _attribute(settings.GetPixelAspectRatioAttr(), time, 1.0)))
-        if not math.isclose(aspect, 1.0):
-            warn(path, f"pixelAspectRatio {aspect:g}: only square pixels are rendered; 1 used")
+        framing = image_framing(product, time, base_framing, warn)
         ndc = tuple(float(v) for v in _attribute(product.GetDataWindowNDCAttr(), time,
                                                  _attribute(settings.GetDataWindowNDCAttr(), time, (0, 0, 1, 1))))
-        out = Product(path, str(product.GetProductNameAttr().Get(time) or ""), resolution, camera, ndc)
+        out = Product(path, str(product.GetProductNameAttr().Get(time) or ""), resolution, camera, ndc, framing)
         if not out.name:
             warn(path, "no productName; product skipped")
             continue

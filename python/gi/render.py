@@ -68,6 +68,8 @@ def render_settings(loaded, integrator, params, spp, seed, threads, time_limit, 
     settings.time_limit = time_limit
     if hasattr(settings, "filter"):  # not in _core.pyi's contract; set only where the core has it
         settings.filter = pixel_filter
+    if loaded.framing is not None:
+        settings.aspect_ratio_conform_policy, settings.pixel_aspect_ratio = loaded.framing
     return settings
 
 

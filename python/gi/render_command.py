@@ -148,6 +148,8 @@ def cmd_render(args, flags, parser):
                                            target.resolution or (tuple(args.resolution) if args.resolution else None),
                                            args.filter)
                 settings.preset = args.preset or ""
+                if target.product is not None:
+                    settings.aspect_ratio_conform_policy, settings.pixel_aspect_ratio = target.product.framing
                 if args.tile:
                     settings.data_window = tile_window(args.tile, settings.width, settings.height)
                 elif target.window:

@@ -309,6 +309,7 @@ struct PyRenderSettings {
     double timeLimit = 0;
     std::string filter = "box";
     std::tuple<int, int, int, int> dataWindow{0, 0, 0, 0};  // (x0, y0, x1, y1); empty: the whole image
+    ImageFraming framing;  // the conform policy and pixel aspect ratio (no display window: Hydra's)
 };
 
 struct RenderResult {
@@ -334,6 +335,7 @@ RenderSettings toRenderSettings(const PyRenderSettings& py) {
     settings.filter = py.filter;
     settings.preset = py.preset;
     std::tie(settings.window.x0, settings.window.y0, settings.window.x1, settings.window.y1) = py.dataWindow;
+    settings.framing = py.framing;
     for (auto [key, value] : py.params) settings.params.set(nb::cast<std::string>(key), nb::cast<double>(value));
     return settings;
 }
@@ -434,6 +436,20 @@ void bindRendering(nb::module_& m) {
         .def_rw("threads", &PyRenderSettings::threads)
         .def_rw("time_limit", &PyRenderSettings::timeLimit)
         .def_rw("filter", &PyRenderSettings::filter)
+        .def_prop_rw(
+            "aspect_ratio_conform_policy",
+            [](const PyRenderSettings& s) { return std::string(apertureConformToken(s.framing.conform)); },
+            [](PyRenderSettings& s, const std::string& token) {
+                if (!parseApertureConform(token, &s.framing.conform))
+                    throw nb::value_error(("aspectRatioConformPolicy '" + token + "' is none of expandAperture, "
+                                           "cropAperture, adjustApertureWidth, adjustApertureHeight, "
+                                           "adjustPixelAspectRatio").c_str());
+            },
+            "UsdRenderSettings' aspectRatioConformPolicy: how the camera's aperture fits the image")
+        .def_prop_rw(
+            "pixel_aspect_ratio", [](const PyRenderSettings& s) { return s.framing.pixelAspectRatio; },
+            [](PyRenderSettings& s, float aspect) { s.framing.pixelAspectRatio = aspect; },
+            "a pixel's width over its height (UsdRenderSettings' pixelAspectRatio)")
         .def_rw("data_window", &PyRenderSettings::dataWindow,
                 "(x0, y0, x1, y1): render only pixels [x0, x1) x [y0, y1); (0, 0, 0, 0): the whole image");
 

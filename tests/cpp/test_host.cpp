@@ -1,12 +1,11 @@
-// What a host (the Hydra delegate) relies on: a camera given as a projection matrix renders the
-// same rays as the UsdGeomCamera it came from, the film reports which shape and instance each
+// What a host (the Hydra delegate) relies on: the film reports which shape and instance each
 // pixel sees, a cancelled pass leaves the film untouched, and a paused render resumes exactly.
+// (The camera both hosts share: test_camera_framing.cpp.)
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <thread>
 
-#include "renderer/camera.h"
 #include "renderer/render.h"
 #include "scenes.h"
 
@@ -14,19 +13,6 @@ using namespace gi;
 using namespace gi::test;
 
 namespace {
-// OpenGL-style perspective projection (row vectors, as Gf) for a window [l,r]x[b,t] at `near`.
-Mat4 frustum(double l, double r, double b, double t, double n, double f) {
-    Mat4 p;
-    p.m[0][0] = 2 * n / (r - l);
-    p.m[1][1] = 2 * n / (t - b);
-    p.m[2][0] = (r + l) / (r - l);
-    p.m[2][1] = (t + b) / (t - b);
-    p.m[2][2] = -(f + n) / (f - n);
-    p.m[2][3] = -1;
-    p.m[3][2] = -2 * f * n / (f - n);
-    p.m[3][3] = 0;
-    return p;
-}
 // A white floor lit by an overhead delta sun, seen from above: returns the floor's shape id.
 int litFloor(Scene& scene, int material) {
     int floor = addQuad(scene, "/Floor", {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, material);
@@ -61,32 +47,6 @@ RenderSettings smallImage(int size, int spp) {
     return settings;
 }
 }  // namespace
-
-TEST(Host, ProjectionMatrixCameraMatchesApertureCamera) {
-    CameraDesc aperture;
-    aperture.focalLength = 35;
-    aperture.horizontalAperture = 36, aperture.verticalAperture = 24;
-    aperture.horizontalApertureOffset = 2;
-    aperture.transform.m[3][0] = 1, aperture.transform.m[3][2] = 5;
-    Camera reference(aperture, 300, 200);
-
-    // The same frustum as a matrix: the window at unit distance is aperture/focal, in tenths.
-    double n = 0.1, halfW = 0.5 * 36 / 35, halfH = 0.5 * 24 / 35, shift = 2.0 / 35;
-    Mat4 projection = frustum(n * (shift - halfW), n * (shift + halfW), -n * halfH, n * halfH, n, 100);
-    CameraDesc host = aperture;
-    host.useProjection = true;
-    host.projectionMatrix = projection;
-    host.horizontalAperture = host.verticalAperture = 1;  // must be ignored
-    Camera fromMatrix(host, 300, 200);
-    for (Vec2 pixel : {Vec2(0.5f, 0.5f), Vec2(150, 100), Vec2(299.5f, 10), Vec2(20, 199)}) {
-        Ray a = reference.generateRay(pixel.x, pixel.y, Vec2(0.5f, 0.5f));
-        Ray b = fromMatrix.generateRay(pixel.x, pixel.y, Vec2(0.5f, 0.5f));
-        for (int c = 0; c < 3; ++c) {
-            EXPECT_NEAR(a.o[c], b.o[c], 1e-6f);
-            EXPECT_NEAR(a.d[c], b.d[c], 1e-6f);
-        }
-    }
-}
 
 TEST(Host, FilmReportsShapeAndInstanceIds) {
     Scene scene;

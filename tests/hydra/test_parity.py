@@ -3,6 +3,7 @@
 with renderer/mesh_description.h and shade by renderer/usd_shading.h; tests/python/test_parity.py
 checks the `gi` side's statistics). usdrecord hides dome lights from the camera unless told
 (--enableDomeLightVisibility); `gi render` shows them, as the stages' dome does."""
+import subprocess
 import sys
 
 import numpy as np
@@ -18,7 +19,7 @@ STAGES = [("holes", "low"), ("left_handed", "low"), ("face_varying_normals", "lo
           ("subdivision", "low"), ("subdivision", "high"), ("subdivision_creases_corners", "veryhigh"),
           ("texture_st0", "low"), ("texture_varname", "low"), ("texture_missing", "low"),
           ("display_color", "low"), ("display_color_inherited", "low"), ("geom_subsets", "low"),
-          ("instanced_materials", "low"), ("camera_offsets", "low")]
+          ("instanced_materials", "low"), ("camera_offsets", "low"), ("preview_surface_defaults", "low")]
 SPP, SEED, WIDTH = 16, 0, 240
 # usdrecord's image height: the width over the camera's aperture aspect, truncated (frameRecorder.cpp);
 # camera_offsets' 24 x 16.25 aperture makes it 162, an aspect other than the aperture's.
@@ -61,3 +62,38 @@ def test_editing_a_readers_varname_repicks_the_uvs(tmp_path):
     corner = (slice(171, 219), slice(21, 69))
     assert (upright[corner] == stage_files.RED).all() and (mirrored[corner] == stage_files.GREEN).all()
     assert np.array_equal(upright, back)
+
+
+@pytest.mark.parametrize("policy, pixel_aspect, inherited",
+                         [(*case, False) for case in stage_files.CONFORM_CASES] + [("cropAperture", 1.0, True)])
+def test_conform_policy_agrees(tmp_path, policy, pixel_aspect, inherited):
+    """camera_conform.usda through a RenderProduct (usdrecord renders the settings' resolution and
+    framing only for products; without one it sizes the image to the camera's aspect and lets
+    Hydra's window policy conform it): both hosts follow the settings' aspectRatioConformPolicy
+    and pixelAspectRatio through renderer/camera_framing.h, the product's own over the settings'
+    (a decoy there), or inherited from the settings, and write the same beauty and depth bit for
+    bit.
+    tests/python/test_parity.py checks where the rectangle lands for each case."""
+    scene = stage_files.prepare("camera_conform", tmp_path / "stage")
+    gi_settings = 'custom string gi:integrator = "path"\n' \
+                  f'        custom int gi:samples = {SPP}\n        custom int gi:seed = {SEED}'
+    hydra_layer = stage_files.conform_layer(tmp_path / "stage/hydra.usda", scene, policy, pixel_aspect,
+                                            product=tmp_path / "hydra.exr", settings=gi_settings, inherited=inherited)
+    cli_layer = stage_files.conform_layer(tmp_path / "stage/cli.usda", scene, policy, pixel_aspect,
+                                          product=tmp_path / "cli.exr", settings=gi_settings, inherited=inherited)
+    result = run_openusd(["usdrecord", "--disableGpu", "--renderer", "Gi", "--disableCameraLight",
+                          "--colorCorrectionMode", "disabled", "--imageWidth", str(WIDTH), str(hydra_layer),
+                          str(tmp_path / "usdrecord.exr")])
+    assert not hdgi_errors(result.stdout + result.stderr), result.stderr
+    assert not (tmp_path / "usdrecord.exr").exists(), "usdrecord did not render the product"
+    subprocess.run([str(REPO / ".venv/bin/gi"), "render", str(cli_layer), "--integrator", "path", "--spp", str(SPP),
+                    "--seed", str(SEED)], check=True, capture_output=True)
+    from gi import _core
+    (hydra, hydra_meta), (cli, cli_meta) = (_core.read_image(str(tmp_path / f"{host}.exr")) for host in ("hydra", "cli"))
+    hydra, cli = np.asarray(hydra), np.asarray(cli)
+    assert hydra_meta["channels"] == cli_meta["channels"] == ["R", "G", "B", "Depth"]
+    assert hydra.shape == (120, 240, 4)
+    identical = (hydra == cli).all(axis=-1).mean()
+    print(f"{policy} {pixel_aspect}: {100 * identical:.2f}% of pixels identical, mean beauty "
+          f"{hydra[..., :3].mean():.5f} (usdrecord) / {cli[..., :3].mean():.5f} (gi render)")
+    assert np.array_equal(hydra, cli)

@@ -36,3 +36,67 @@ def prepare(stage, directory):
         if f"@{name}@" in text:
             _core.write_rgb_exr(str(directory / name), np.ascontiguousarray(pixels()))
     return target
+
+
+# camera_conform.usda's render settings overridden: (aspectRatioConformPolicy, pixelAspectRatio).
+CONFORM_CASES = [("cropAperture", 1.0), ("adjustApertureWidth", 0.5), ("adjustApertureHeight", 0.5),
+                 ("adjustPixelAspectRatio", 1.0), ("expandAperture", 0.5)]
+
+
+# What the settings say when a product carries the case (each case differs from it): a host taking
+# the settings' framing instead of the product's would render a window four times as wide as tall.
+SETTINGS_DECOY = ("adjustApertureWidth", 2.0)
+
+
+def conform_layer(path, stage, policy, pixel_aspect, product=None, settings="", inherited=False):
+    """A layer over `stage` (a prepared camera_conform.usda) framed by `policy` and `pixel_aspect`.
+    Without `product` the render settings carry them. With `product` (a file path) the settings
+    declare one RenderProduct written there, which carries them while the settings say
+    SETTINGS_DECOY (the product's own values win over its settings'), or, `inherited`, which
+    authors none and inherits them from the settings, which carry them. It holds the beauty and the
+    depth (which follows each ray's direction to its last bits, where the beauty, a covered
+    fraction, rarely changes). Products are what make usdrecord render the settings' resolution
+    and framing. `settings`: more lines for the settings prim (gi:* attributes). Returns `path`."""
+    framing = f"""uniform token aspectRatioConformPolicy = "{policy}"
+        uniform float pixelAspectRatio = {pixel_aspect!r}"""
+    settings_framing, product_lines = framing, ""
+    if product is not None and inherited:
+        settings_framing, framing = framing + "\n        rel products = </Render/Image>", ""
+    elif product is not None:
+        settings_framing = f"""uniform token aspectRatioConformPolicy = "{SETTINGS_DECOY[0]}"
+        uniform float pixelAspectRatio = {SETTINGS_DECOY[1]!r}
+        rel products = </Render/Image>"""
+    if product is not None:
+        product_lines = f'''
+    def RenderProduct "Image"
+    {{
+        token productName = "{product}"
+        {framing}
+        rel orderedVars = [</Render/Color>, </Render/Depth>]
+    }}
+    def RenderVar "Color"
+    {{
+        string sourceName = "color"
+        token dataType = "color3f"
+    }}
+    def RenderVar "Depth"
+    {{
+        string sourceName = "depth"
+        token dataType = "float"
+    }}'''
+    Path(path).write_text(f'''#usda 1.0
+(
+    subLayers = [@{Path(stage).resolve()}@]
+    renderSettingsPrimPath = "/Render/Settings"
+)
+
+over "Render"
+{{
+    over "Settings"
+    {{
+        {settings_framing}
+        {settings}
+    }}{product_lines}
+}}
+''')
+    return Path(path)

@@ -557,6 +557,34 @@ def test_loader_runs_without_the_compiled_core():
     assert proc.stdout.split() == ["5", "1", "1"]
 
 
+def test_camera_defaults_are_the_schemas_in_both_descriptors():
+    """The compiled CameraDesc's defaults (renderer/camera_desc.h, written once for both hosts) and
+    the pure-Python stand-in's (read from the schema) are UsdGeomCamera's fallbacks."""
+    pytest.importorskip("gi._core")
+    from gi import _core, descriptors
+    core, stand_in = _core.CameraDesc(), descriptors.PYTHON_DESCRIPTORS["CameraDesc"]()
+    assert core.projection == stand_in.projection
+    for name in ("focal_length", "horizontal_aperture", "vertical_aperture", "horizontal_aperture_offset",
+                 "vertical_aperture_offset", "f_stop", "focus_distance"):
+        assert getattr(core, name) == pytest.approx(getattr(stand_in, name), rel=1e-7), name
+
+
+def test_preview_surface_defaults_are_the_specs_in_both_descriptors():
+    """The compiled MaterialDesc's and TextureDesc's defaults (renderer/material.h, texture.h: the
+    only place either host takes UsdPreviewSurface's defaults from) equal the pure-Python
+    stand-ins', which read them from the shaders' Sdr definitions: the spec's."""
+    pytest.importorskip("gi._core")
+    from gi import _core, descriptors
+    for core, stand_in in ((_core.MaterialDesc(), descriptors.PYTHON_DESCRIPTORS["MaterialDesc"]()),
+                           (_core.TextureDesc(), descriptors.PYTHON_DESCRIPTORS["TextureDesc"]())):
+        for name, expected in vars(stand_in).items():
+            value = getattr(core, name)
+            if isinstance(expected, (str, bool)):
+                assert value == expected, name
+            elif not hasattr(expected, "file"):  # a nested TextureDesc is checked on its own
+                assert np.allclose(value, expected, rtol=1e-7, atol=0), name
+
+
 # -- the command line's generated flags (no core needed) -----------------------------------------
 
 CATALOG = [

@@ -236,6 +236,20 @@ def test_display_color_without_material(tmp_path):
     assert (region(rgb(image), -1.2, 1.2, 0.5, 1.2) == 1).all()  # the dome, seen directly
 
 
+def test_preview_surface_defaults(tmp_path):
+    """A UsdPreviewSurface authoring no input and a gprim with neither material nor displayColor
+    are both the spec's defaults: albedo 0.18 plus the 1.5 IOR's F0, exactly, and (sample noise
+    apart) the same radiance: the halves' means (98 x 98 pixels each) agree to 4 sigma of their
+    difference, the per-pixel standard deviation measured 0.0072 at 16 spp (seeds 0-3; the halves'
+    means then differed by 1.2e-5 to 1.2e-4)."""
+    image = render(tmp_path, "preview_surface_defaults")
+    albedo = np.stack([image["albedo.R"], image["albedo.G"], image["albedo.B"]], axis=-1)
+    for x0, x1 in ((-1.0, 0.0), (0.0, 1.0)):
+        assert np.abs(region(albedo, x0, x1, -0.5, 0.5) - (0.18 + F0)).max() < 1e-6, x0
+    bound, unbound = (region(rgb(image), x0, x1, -0.5, 0.5).mean() for x0, x1 in ((-1.0, 0.0), (0.0, 1.0)))
+    assert abs(bound - unbound) < 4 * math.sqrt(2) * 0.0072 / 98, (bound, unbound)
+
+
 def test_display_color_is_inherited(tmp_path):
     image = render(tmp_path, "display_color_inherited")
     assert_display_color_shaded(image, -1.0, -0.1, (0.25, 0.5, 0.75))   # the parent's
@@ -304,3 +318,79 @@ def test_camera_aperture_offsets_and_conform(tmp_path, resolution):
     assert np.abs(np.subtract(centre, expected)).max() < centre_noise
     perimeter = 2 * (1.5 + 1.0) / pixel
     assert total * pixel ** 2 == pytest.approx(1.5, abs=4 * EDGE_SIGMA * math.sqrt(perimeter) * pixel ** 2)
+
+
+def conform_window(policy, pixel_aspect, width=240, height=120):
+    """camera_conform.usda's window in the rectangle's plane (5 units away): (left, top, pixel width,
+    pixel height) in scene units after `policy` conforms the 24.3 x 16.5 aperture (focal length 30,
+    offsets 3.3 and -2) to the image's aspect (pixel_aspect * width / height), about its centre."""
+    half_w, half_h = 5 * 0.5 * 24.3 / 30, 5 * 0.5 * 16.5 / 30
+    centre_x, centre_y = 5 * 3.3 / 30, 5 * -2 / 30
+    aspect = pixel_aspect * width / height
+    wider = half_w / half_h > aspect
+    if policy == "adjustApertureWidth" or (policy == "expandAperture" and not wider) or \
+            (policy == "cropAperture" and wider):
+        half_w = half_h * aspect
+    elif policy in ("adjustApertureHeight", "expandAperture", "cropAperture"):
+        half_h = half_w / aspect
+    return centre_x - half_w, centre_y + half_h, 2 * half_w / width, 2 * half_h / height
+
+
+@pytest.mark.parametrize("policy, pixel_aspect", stage_files.CONFORM_CASES)
+def test_conform_policy_frames_the_rectangle(tmp_path, policy, pixel_aspect):
+    """The render settings' aspectRatioConformPolicy and pixelAspectRatio set where the rectangle
+    x -0.5..1.5, y -1..0.5 lands in the 240 x 120 image and how large it is (each case differs
+    from the schema's default, expandAperture with square pixels, by at least 12 pixels in width
+    or height). Noise as test_camera_aperture_offsets_and_conform's: 4 sigma of the mean of R rows'
+    (or columns') two edge pixels, and of the centroid."""
+    from gi import _core
+    scene = stage_files.prepare("camera_conform", tmp_path / "stage")
+    layer = stage_files.conform_layer(tmp_path / "stage/conform.usda", scene, policy, pixel_aspect)
+    output = tmp_path / "conform.exr"
+    run_gi("render", layer, "--spp", SPP, "--seed", 0, "-o", output, "--no-png")
+    pixels, meta = _core.read_image(str(output))
+    covered = np.asarray(pixels, np.float64)[..., meta["channels"].index("R")]
+    assert covered.shape == (120, 240)
+    left, top, pixel_w, pixel_h = conform_window(policy, pixel_aspect)
+    w, h = 2.0 / pixel_w, 1.5 / pixel_h  # the rectangle in pixels
+    rows, columns = covered.sum(axis=1), covered.sum(axis=0)
+    full_rows, full_columns = rows > 0.99 * rows.max(), columns > 0.99 * columns.max()
+    width, height = rows[full_rows].mean(), columns[full_columns].mean()
+    width_noise = 4 * math.sqrt(2) * EDGE_SIGMA / math.sqrt(full_rows.sum())
+    height_noise = 4 * math.sqrt(2) * EDGE_SIGMA / math.sqrt(full_columns.sum())
+    print(f"{policy} {pixel_aspect}: {width:.3f} x {height:.3f} pixels (expected {w:.3f} +- {width_noise:.3f} "
+          f"x {h:.3f} +- {height_noise:.3f})")
+    assert width == pytest.approx(w, abs=width_noise) and height == pytest.approx(h, abs=height_noise)
+    ys, xs = np.indices(covered.shape) + 0.5
+    total = covered.sum()
+    centre = ((covered * xs).sum() / total, (covered * ys).sum() / total)
+    expected = ((0.5 - left) / pixel_w, (top + 0.25) / pixel_h)
+    centre_noise = 4 * EDGE_SIGMA * max(w / 2 * math.sqrt(2 * h), h / 2 * math.sqrt(2 * w)) / (w * h)
+    assert np.abs(np.subtract(centre, expected)).max() < centre_noise, (centre, expected)
+
+
+def test_conform_cases_differ_from_the_default():
+    """Each case of CONFORM_CASES frames the rectangle visibly otherwise than expandAperture with
+    square pixels (so the test above cannot pass with the policy ignored)."""
+    _, _, default_w, default_h = conform_window("expandAperture", 1.0)
+    for policy, pixel_aspect in stage_files.CONFORM_CASES:
+        _, _, pixel_w, pixel_h = conform_window(policy, pixel_aspect)
+        assert max(abs(2 / pixel_w - 2 / default_w), abs(1.5 / pixel_h - 1.5 / default_h)) > 12, policy
+
+
+def test_bad_framing_settings_warn_and_fall_back(tmp_path):
+    """An aspectRatioConformPolicy the schema does not allow, or a pixelAspectRatio that is not a
+    positive number, warns naming the settings prim and renders with the schema's fallback; the
+    render settings object refuses an unknown token, naming it."""
+    from gi.loader import load_stage
+    from gi.render import render_settings
+    scene = stage_files.prepare("camera_conform", tmp_path / "stage")
+    layer = stage_files.conform_layer(tmp_path / "stage/bad.usda", scene, "fit", -2.0)
+    loaded = load_stage(layer)
+    assert loaded.framing == ("expandAperture", 1.0)
+    assert any("/Render/Settings" in w and "aspectRatioConformPolicy 'fit'" in w for w in loaded.warnings)
+    assert any("/Render/Settings" in w and "pixelAspectRatio -2" in w for w in loaded.warnings)
+    settings = render_settings(loaded, "path", {}, 1, 0, 0, 0, None, "box")
+    assert (settings.aspect_ratio_conform_policy, settings.pixel_aspect_ratio) == ("expandAperture", 1.0)
+    with pytest.raises(ValueError, match="'fit'"):
+        settings.aspect_ratio_conform_policy = "fit"
