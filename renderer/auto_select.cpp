@@ -38,12 +38,13 @@ std::vector<double> srgbCodes(const std::vector<double>& linear) {
     return codes;
 }
 
-// A pilot's share of the pilot time: the path tracer's noise shows in few samples; the photon
+// A pilot's share of the pilot time: the path tracer's noise shows in few samples (but each of
+// its batches needs a sample in every pixel, and its heavy tail a few); the photon
 // techniques must first trace and index their photons, and the progressive photon map, which
 // traces a photon map for every sample, is the consistent technique that sees light the path
 // tracer misses (a sun through glass), so its pilot must complete.
 double pilotWeight(const std::string& integrator) {
-    if (integrator == "path") return 0.5;
+    if (integrator == "path") return 1;
     if (integrator == "progressivePhotonMap") return 2;
     if (integrator == "photonMapIrradianceCache" || integrator == "photonMapFinalGather") return 1.5;
     return 1;
@@ -94,14 +95,16 @@ RenderSettings pilotSettings(const RenderSettings& settings, const std::string& 
     return ps;
 }
 
-// The renderer's progressive passes from sample index `firstSample` until `deadline`: the image,
-// or false if some pixel has no sample. `nextSample` is where the next batch may start: past
-// every sample index this one used, its last pass cut at the deadline included.
-bool renderBatch(Renderer& renderer, int firstSample, double deadline, const std::atomic<bool>* cancel,
-                 std::vector<float>& image, int& nextSample) {
+// The renderer's progressive passes from sample index `firstSample`: the first (one sample per
+// pixel) until `lastDeadline`, the others until `deadline`. The image, or false if some pixel has
+// no sample. `nextSample` is where the next batch may start: past every sample index this one
+// used, its last pass cut at the deadline included.
+bool renderBatch(Renderer& renderer, int firstSample, double deadline, double lastDeadline,
+                 const std::atomic<bool>* cancel, std::vector<float>& image, int& nextSample) {
     renderer.reset(firstSample);
     for (;;) {
-        PassEnd end = renderer.renderNextPass(Renderer::kMaxPassSamples, deadline, cancel);
+        PassEnd end = renderer.renderNextPass(Renderer::kMaxPassSamples,
+                                              renderer.samplesTaken() == 0 ? lastDeadline : deadline, cancel);
         if (end == PassEnd::Cancelled) return false;
         if (end != PassEnd::Complete || steadySeconds() >= deadline) break;
     }
@@ -111,26 +114,32 @@ bool renderBatch(Renderer& renderer, int firstSample, double deadline, const std
     return true;
 }
 
-// The pilot of `integrator` in `seconds`: one preprocessing, then kAutoPilotBatches batches of
-// consecutive sample indices, each with an equal share of the time left. A batch that cannot
-// take a sample in every pixel in its share ends the pilot; it is complete with two batches or
-// more, and incomplete when cancelled.
+// The pilot of `integrator` in `seconds`: one preprocessing, then up to kAutoPilotBatches batches
+// of consecutive sample indices, each with an equal share of the time left, or one sample per
+// pixel if that takes longer (an expensive technique's pilot makes fewer batches: as many as
+// fit). A batch that cannot take a sample in every pixel before the pilot's end ends the pilot;
+// it is complete with two batches or more, and incomplete when cancelled.
 AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const CameraDesc& camera,
                       const std::string& integrator, int width, int height, double seconds, uint32_t seed,
                       const std::atomic<bool>* cancel) {
     AutoPilot pilot;
     pilot.integrator = integrator;
+    pilot.seconds = seconds;
+    pilot.width = width;
+    pilot.height = height;
     const double end = steadySeconds() + seconds;
     Renderer renderer(scene, pilotSettings(settings, integrator, width, height, seed), &camera);
-    if (!renderer.preprocess(cancel, end)) return pilot;
+    bool preprocessed = renderer.preprocess(cancel, end);
     pilot.preprocessSeconds = renderer.stats().preprocessSeconds;
+    if (!preprocessed) return pilot;
     const double renderStart = steadySeconds(), slice = std::max(0.0, end - renderStart) / kAutoPilotBatches;
     int firstSample = 0;
     double batchSeconds = 0;  // of the batches kept
     for (int k = 0; k < kAutoPilotBatches; ++k) {
         std::vector<float> image;
         double before = renderer.stats().renderSeconds;
-        if (!renderBatch(renderer, firstSample, renderStart + (k + 1) * slice, cancel, image, firstSample)) break;
+        if (!renderBatch(renderer, firstSample, renderStart + (k + 1) * slice, end, cancel, image, firstSample))
+            break;
         batchSeconds += renderer.stats().renderSeconds - before;
         pilot.batches.push_back(std::move(image));
     }
@@ -159,12 +168,13 @@ std::string AutoChoice::summary() const {
                        std::to_string(pilotWidth) + "x" + std::to_string(pilotHeight) +
                        "; predicted RMSE (sRGB codes):";
     for (const AutoPrediction& p : predictions) {
-        char buffer[128];
+        char buffer[192];
         if (p.complete)
             std::snprintf(buffer, sizeof buffer, " %s %.2f%s", p.integrator.c_str(), p.predictedRmse,
                           &p == &predictions.back() ? "" : ",");
-        else  // its pilot rendered no complete image in its share (preprocessing alone took longer)
-            std::snprintf(buffer, sizeof buffer, " %s (no pilot in time)%s", p.integrator.c_str(),
+        else  // its pilot rendered fewer than two batches in its share
+            std::snprintf(buffer, sizeof buffer, " %s (no pilot in time: %d batches in %.2f s, %.2f s of it preprocessing)%s",
+                          p.integrator.c_str(), p.batches, p.pilotSeconds, p.preprocessSeconds,
                           &p == &predictions.back() ? "" : ",");
         text += buffer;
     }
@@ -190,11 +200,11 @@ AutoChoice chooseIntegrator(const Scene& scene, const RenderSettings& settings, 
     for (size_t k = 0; k < candidates.size(); ++k) {
         double weightLeft = 0;
         for (size_t j = k; j < candidates.size(); ++j) weightLeft += pilotWeight(candidates[j]);
-        double each = (end - steadySeconds()) * pilotWeight(candidates[k]) / weightLeft / 2;
+        double seconds = (end - steadySeconds()) * pilotWeight(candidates[k]) / weightLeft;
         AutoPilot pilot;  // no time left: incomplete
         pilot.integrator = candidates[k];
-        if (each > 0)
-            pilot = renderPilot(scene, settings, camera, candidates[k], choice.pilotWidth, choice.pilotHeight, each,
+        if (seconds > 0)
+            pilot = renderPilot(scene, settings, camera, candidates[k], choice.pilotWidth, choice.pilotHeight, seconds,
                                 settings.seed + 1 + 2 * uint32_t(k), cancel);
         pilots.push_back(std::move(pilot));
         if (cancel && cancel->load()) {
@@ -212,24 +222,37 @@ AutoChoice chooseIntegrator(const Scene& scene, const RenderSettings& settings, 
     return predicted;
 }
 
-double predictedNoise(const std::vector<std::vector<float>>& batches, double q) {
+double predictedNoise(const AutoPilot& pilot, double q) {
+    const auto& batches = pilot.batches;
     const size_t K = batches.size();
     if (K < 2 || !(q > 0)) return 0;
     const size_t n = batches[0].size();
+    std::vector<double> total(n, 0.0);
+    for (const auto& batch : batches)
+        for (size_t i = 0; i < n; ++i) total[i] += batch[i];
     const double unbias = std::sqrt(double(K - 1) / double(K));
     double sum = 0;
-    for (size_t i = 0; i < n; ++i) {
-        double total = 0;
-        for (size_t k = 0; k < K; ++k) total += batches[k][i];
-        double pixel = 0;
-        for (size_t k = 0; k < K; ++k) {
-            double others = (total - batches[k][i]) / double(K - 1);
-            double e = srgbCode(others + q * unbias * (double(batches[k][i]) - others)) - srgbCode(others);
-            pixel += e * e;
-        }
-        double meanCode = srgbCode(total / double(K)), farthest = std::max(meanCode, 255.0 - meanCode);
-        sum += std::min(pixel / (double(K) * q), farthest * farthest);
-    }
+    for (int y = 0; y < pilot.height; ++y)
+        for (int x = 0; x < pilot.width; ++x)
+            for (int channel = 0; channel < 3; ++channel) {
+                // The window's values in every batch, and how many there are.
+                double window = 0;
+                int count = 0;
+                for (int v = std::max(0, y - 1); v <= std::min(pilot.height - 1, y + 1); ++v)
+                    for (int u = std::max(0, x - 1); u <= std::min(pilot.width - 1, x + 1); ++u, ++count)
+                        window += total[(size_t(v) * size_t(pilot.width) + size_t(u)) * 3 + size_t(channel)];
+                const size_t i = (size_t(y) * size_t(pilot.width) + size_t(x)) * 3 + size_t(channel);
+                double pixel = 0;
+                for (size_t k = 0; k < K; ++k) {
+                    double value = batches[k][i];
+                    double center = (window - value) / double(size_t(count) * K - 1);
+                    double deviation = unbias * (value - (total[i] - value) / double(K - 1));
+                    double e = srgbCode(center + q * deviation) - srgbCode(center);
+                    pixel += e * e;
+                }
+                double meanCode = srgbCode(total[i] / double(K)), farthest = std::max(meanCode, 255.0 - meanCode);
+                sum += std::min(pixel / (double(K) * q), farthest * farthest);
+            }
     return n ? sum / double(n) : 0;
 }
 
@@ -251,7 +274,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     for (size_t k = 0; k < pilots.size(); ++k) {
         if (!pilots[k].complete) continue;
         means[k] = meanImage(pilots[k].batches);
-        meanNoise[k] = predictedNoise(pilots[k].batches, 1.0 / double(pilots[k].batches.size()));
+        meanNoise[k] = predictedNoise(pilots[k], 1.0 / double(pilots[k].batches.size()));
         if (!isConsistent(pilots[k].integrator)) continue;
         double w = 1.0 / (meanNoise[k] + kNoiseFloor);
         weightSum += w;
@@ -271,12 +294,13 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
         p.integrator = pilots[k].integrator;
         p.consistent = isConsistent(p.integrator);
         p.complete = pilots[k].complete && compared;
+        p.batches = int(pilots[k].batches.size());
+        p.pilotSeconds = pilots[k].seconds;
+        p.renderSeconds = pilots[k].renderSeconds;
+        p.preprocessSeconds = pilots[k].preprocessSeconds;
         if (p.complete) {
             const double batches = double(pilots[k].batches.size());
-            p.batches = int(pilots[k].batches.size());
-            p.renderSeconds = pilots[k].renderSeconds;
-            p.preprocessSeconds = pilots[k].preprocessSeconds;
-            p.noise = predictedNoise(pilots[k].batches, 1.0);
+            p.noise = predictedNoise(pilots[k], 1.0);
             double error = meanSquaredDifference(srgbCodes(means[k]), referenceCodes) - referenceVariance;
             p.bias = std::max(0.0, error - meanNoise[k]);
             // The final render's time per pixel against one batch's: its preprocessing, as the
@@ -287,7 +311,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             double batchSecondsPerPixel = std::max(p.renderSeconds, 1e-6) / pilotPixels;
             double ratio = std::min(1.0, batchSecondsPerPixel / finalSecondsPerPixel);
             double mse = (p.consistent ? p.bias * std::min(1.0, batches * ratio) : p.bias) +
-                         predictedNoise(pilots[k].batches, ratio);
+                         predictedNoise(pilots[k], ratio);
             p.predictedRmse = std::sqrt(mse);
             if (p.integrator == "path") pathMse = mse;
         }

@@ -15,20 +15,22 @@
 // made from linear batch values, because f compresses highlights: in a pilot of few samples a
 // firefly (a caustic through glass) is clamped to code 255, so noise measured on pilot codes and
 // scaled by 1/time underestimates the final render's (measured on the Cornell box: 4.1 predicted,
-// 21 reached, in codes squared). Per pixel value, with batches B_k (K of them), c_k the mean of the
-// others (leave one out: a firefly in B_k does not move the point f is taken at for it, as it would
-// move the mean of all), d_k = (B_k - c_k) sqrt((K - 1) / K) (one batch's deviation: Var(B_k - c_k)
-// is K / (K - 1) times one batch's variance) and M the mean of all, an image of 1/q batches'
-// samples has, in codes squared,
+// 21 reached, in codes squared). Per pixel value, with batches B_k (K of them), M their mean,
+// c_k the mean of the values in its 3x3 pixel window over all batches but B_k itself (independent
+// of B_k, so a firefly in B_k does not move the point f is taken at for it as it moves M; and
+// spatially pooled, since f is steepest near 0 and a noisy centre makes (f')^2 too large on
+// average), d_k = (B_k - m_k) sqrt((K - 1) / K) with m_k the mean of the other batches (one
+// batch's deviation: Var(B_k - m_k) is K / (K - 1) times one batch's variance), an image of 1/q
+// batches' samples has, in codes squared,
 //   noise(q) = min(mean_k (f(c_k + q d_k) - f(c_k))^2 / q, max(f(M), 255 - f(M))^2)
 // (for small d this is f'(c)^2 Var(B) q, the delta method; a firefly counts with its full linear
 // size scaled to the render's samples and clamped as the render's codes will clamp it; a pixel's
-// error is at most the distance to code 0 or 255). Measured at 160x120 (noise of the render
-// against a second seed, and the prediction from batches of another 8 seeds):
-//   Cornell box, path tracer, 8 batches of 16 samples for 256: predicted 22, reached 21.2
-//   (the old estimate on codes: 4.1; the median of the batches as the point f is taken at: 33);
-//   Sponza, path tracer, 8 batches of 4 samples for 64: predicted 306, reached 191 (the old 108):
-//   pessimistic where few samples leave dark pixels' c_k noisy (f is steepest near 0).
+// error is at most the distance to code 0 or 255). Measured at 160x120 (noise of a render against
+// a second seed's, and the prediction from batches of 8 other seeds), in codes squared:
+//   Cornell box, path tracer, 256 samples: 21.2 reached; predicted from 8 batches of 16 samples
+//   23.2 (of 2 samples: 29.1); the old estimate on pilot codes: 4.1;
+//   Sponza, path tracer, 64 samples: 191 reached; predicted from 8 batches of 4 samples 175 (the
+//   old estimate 108; the centre without the window, c_k = m_k: 306).
 // Then, per technique,
 //   error  e = mean((f(M) - f(R))^2) - Var(f(R))      the pilot's mean's squared error, where R is
 //                                                     the inverse-variance mean of the consistent
@@ -61,11 +63,14 @@ inline constexpr const char* kAutoIntegrator = "auto";
 const std::vector<std::string>& autoCandidates();
 // Another technique must predict at most this share of the path tracer's MSE to be chosen.
 inline constexpr double kAutoMargin = 0.8;
-// Pilot images have about this many pixels (fewer if the render itself is smaller).
-inline constexpr int kAutoPilotPixels = 2048;
-// Batches per pilot: the more, the less noisy the others' mean c_k below (Sponza's prediction
-// was 486, 366 and 306 with 4, 6 and 8 batches for a true 191); few enough that a batch of an
-// expensive technique still takes a sample in every pixel.
+// Pilot images have about this many pixels (fewer if the render itself is smaller): few enough
+// that, in 0.1 of a 10 s budget on 2 cores, the caches' pilots preprocess and still render
+// batches (at 2048 pixels the irradiance caches and the photon map's final gathering on the
+// Cornell box made one batch each).
+inline constexpr int kAutoPilotPixels = 1024;
+// Batches per pilot: the more, the less noisy the others' mean below (with the centre taken
+// without the window, Sponza's prediction was 486, 366 and 306 with 4, 6 and 8 batches for a true
+// 191); few enough that a batch of an expensive technique still takes a sample in every pixel.
 inline constexpr int kAutoPilotBatches = 8;
 
 struct AutoPrediction {
@@ -73,6 +78,7 @@ struct AutoPrediction {
     bool consistent = false;
     bool complete = false;        // its pilot rendered at least two whole batches in its time
     int batches = 0;              // the batches it rendered
+    double pilotSeconds = 0;      // its share of the pilot time
     double renderSeconds = 0, preprocessSeconds = 0;  // of one batch; of the pilot
     double noise = 0, bias = 0;   // noise(1) (one batch's) and b2 above, sRGB codes squared
     double predictedRmse = 0;     // sqrt of the predicted MSE at the budget, sRGB codes
@@ -91,15 +97,17 @@ struct AutoChoice {
 // A technique's pilot: its batches (linear RGB, every one the same size), or too few (incomplete).
 struct AutoPilot {
     std::string integrator;
-    std::vector<std::vector<float>> batches;
+    int width = 0, height = 0;
+    std::vector<std::vector<float>> batches;  // each width * height * 3
+    double seconds = 0;            // its share of the pilot time
     double renderSeconds = 0;      // of one batch (their mean)
     double preprocessSeconds = 0;  // of the pilot's preprocessing (shared by its batches)
     bool complete = false;         // at least two batches
 };
 
 // noise(q) above: the mean squared error, in sRGB codes, of an image with 1/q times one of
-// `batches`' samples (q = 1: one batch's noise).
-double predictedNoise(const std::vector<std::vector<float>>& batches, double q);
+// the pilot's batches' samples (q = 1: one batch's noise).
+double predictedNoise(const AutoPilot& pilot, double q);
 
 // The prediction above from the pilots (each `pilotPixels` pixels) for a render of `pixels`
 // pixels with `budgetSeconds`; the choice among the complete pilots ("path" if none is).

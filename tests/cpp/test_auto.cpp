@@ -16,7 +16,7 @@ namespace {
 using test::addIcosphere;
 using test::lambert;
 
-constexpr int kPilotPixels = 2048;
+constexpr int kPilotWidth = 64, kPilotHeight = 32, kPilotPixels = kPilotWidth * kPilotHeight;
 constexpr double kTruth = 100;  // every pixel's true value, in sRGB codes
 
 double srgbCodeOf(double linear) {
@@ -40,6 +40,8 @@ AutoPilot syntheticPilot(const std::string& integrator, double bias, double sigm
     std::normal_distribution<double> noise(0.0, sigma / slopeAt(kTruth + bias));
     AutoPilot pilot;
     pilot.integrator = integrator;
+    pilot.width = kPilotWidth;
+    pilot.height = kPilotHeight;
     pilot.batches.resize(kAutoPilotBatches);
     for (auto& batch : pilot.batches) {
         batch.resize(kPilotPixels * 3);
@@ -76,11 +78,11 @@ TEST(Auto, EstimatesNoiseAndBiasOfSyntheticPilots) {
     EXPECT_LT(path.bias, 0.52);  // it is the reference here: nothing but noise
     EXPECT_EQ(path.batches, kAutoPilotBatches);
     // Small noise scales as the samples: noise(r) = r noise(1), to the second-order terms above.
-    EXPECT_NEAR(predictedNoise(pilots[0].batches, 0.1), 0.1 * path.noise, 0.001 * path.noise);
+    EXPECT_NEAR(predictedNoise(pilots[0], 0.1), 0.1 * path.noise, 0.001 * path.noise);
     // Consistent: bias * min(1, K r) + noise(r); a cache: bias + noise(r).
     EXPECT_NEAR(path.predictedRmse * path.predictedRmse,
-                path.bias * std::min(1.0, kAutoPilotBatches * 0.1) + predictedNoise(pilots[0].batches, 0.1), 1e-9);
-    EXPECT_NEAR(cache.predictedRmse * cache.predictedRmse, cache.bias + predictedNoise(pilots[1].batches, 0.1),
+                path.bias * std::min(1.0, kAutoPilotBatches * 0.1) + predictedNoise(pilots[0], 0.1), 1e-9);
+    EXPECT_NEAR(cache.predictedRmse * cache.predictedRmse, cache.bias + predictedNoise(pilots[1], 0.1),
                 1e-9);
     EXPECT_EQ(choice.integrator, "path");
 }
@@ -105,9 +107,13 @@ TEST(Auto, PredictsTheErrorOfHeavyTailedNoise) {
         std::binomial_distribution<int> fireflies(samples, kFireflyOdds);
         return kBase + kSigma / std::sqrt(double(samples)) * gauss(rng) + kFirefly * fireflies(rng) / samples;
     };
-    std::vector<std::vector<float>> batches(kAutoPilotBatches, std::vector<float>(kValues));
-    for (auto& batch : batches)
+    AutoPilot pilot;
+    pilot.width = kPilotWidth;
+    pilot.height = kPilotHeight;
+    pilot.batches.assign(kAutoPilotBatches, std::vector<float>(kValues));
+    for (auto& batch : pilot.batches)
         for (float& v : batch) v = float(pixel(kBatchSamples));
+    const auto& batches = pilot.batches;
     const double truthCode = srgbCodeOf(kBase + kFirefly * kFireflyOdds);
     double trueMse = 0, pilotCodesMse = 0;
     for (int i = 0; i < kValues; ++i) {
@@ -117,7 +123,7 @@ TEST(Auto, PredictsTheErrorOfHeavyTailedNoise) {
         pilotCodesMse += d * d / 2 / kValues;
     }
     const double q = double(kBatchSamples) / kRenderSamples;
-    double predicted = predictedNoise(batches, q);
+    double predicted = predictedNoise(pilot, q);
     EXPECT_GE(predicted, 0.85 * trueMse);
     EXPECT_LE(predicted, 2.0 * trueMse);
     EXPECT_LT(pilotCodesMse * q, 0.5 * trueMse);  // the scene is one that codes scaled by time miss
@@ -149,7 +155,7 @@ TEST(Auto, LeavesOutIncompletePilotsAndFallsBackOnThePathTracer) {
     AutoChoice choice = predictFromPilots(pilots, kPilotPixels, 4.0 * kPilotPixels, 4.0);
     EXPECT_EQ(choice.integrator, "path");
     EXPECT_FALSE(prediction(choice, "photonMapFinalGather").complete);
-    EXPECT_NE(choice.summary().find("photonMapFinalGather (no pilot in time)"), std::string::npos);
+    EXPECT_NE(choice.summary().find("photonMapFinalGather (no pilot in time: 0 batches"), std::string::npos);
     // Not even the path tracer's pilot: nothing to compare, the unbiased technique.
     EXPECT_EQ(predictFromPilots({AutoPilot{"path"}}, kPilotPixels, 4.0 * kPilotPixels, 4.0).integrator, "path");
 }
