@@ -168,7 +168,13 @@ TEST(Auto, ThePathTracersMissCountsAgainstIt) {
                                      syntheticPilot("progressivePhotonMap", 0, 3, 0.1, 7)};
     AutoChoice choice = predictFromPilots(pilots, kPilotPixels, 4.0 * kPilotPixels, 4.0);
     EXPECT_EQ(choice.integrator, "progressivePhotonMap");
-    EXPECT_GT(prediction(choice, "path").bias, 500);
+    const AutoPrediction& path = prediction(choice, "path");
+    EXPECT_GT(path.bias, 500);
+    // A consistent technique's bias falls with time as its noise does: b2 * min(1, K r) + noise(r),
+    // r = 0.1 (a batch's 0.1 s per pixel against the render's 4 s for 4x the pixels).
+    EXPECT_NEAR(path.predictedRmse * path.predictedRmse,
+                path.bias * std::min(1.0, kAutoPilotBatches * 0.1) + predictedNoise(pilots[0], 0.1),
+                1e-9 * path.bias);
 }
 
 TEST(Auto, TheRendererResolvesAutoAndKeepsTheTimeLimit) {
