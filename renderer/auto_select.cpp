@@ -97,18 +97,21 @@ RenderSettings pilotSettings(const RenderSettings& settings, const std::string& 
 
 // The renderer's progressive passes from sample index `firstSample`: the first (one sample per
 // pixel) until `lastDeadline`, the others until `deadline`. The image, or false if some pixel has
-// no sample. `nextSample` is where the next batch may start: past every sample index this one
-// used, its last pass cut at the deadline included.
+// no sample. `nextSample` is where the next batch starts: past every sample index this one used,
+// its last pass cut at the deadline included.
 bool renderBatch(Renderer& renderer, int firstSample, double deadline, double lastDeadline,
                  const std::atomic<bool>* cancel, std::vector<float>& image, int& nextSample) {
     renderer.reset(firstSample);
-    for (;;) {
-        PassEnd end = renderer.renderNextPass(Renderer::kMaxPassSamples,
-                                              renderer.samplesTaken() == 0 ? lastDeadline : deadline, cancel);
+    PassEnd end;
+    do {
+        end = renderer.renderNextPass(Renderer::kMaxPassSamples,
+                                      renderer.samplesTaken() == 0 ? lastDeadline : deadline, cancel);
         if (end == PassEnd::Cancelled) return false;
-        if (end != PassEnd::Complete || steadySeconds() >= deadline) break;
-    }
-    nextSample = firstSample + renderer.samplesTaken() + Renderer::kMaxPassSamples;
+    } while (end == PassEnd::Complete && steadySeconds() < deadline);
+    // Right after the last index used: the progressive photon map's radii go on shrinking as in
+    // one render (a gap would give its later batches the radii of a longer render).
+    nextSample = firstSample + renderer.samplesTaken() +
+                 (end == PassEnd::Deadline ? renderer.stats().partialPassSamples : 0);
     if (renderer.samplesTaken() == 0) return false;  // the first pass did not reach every pixel
     image = renderer.film().color();
     return true;
@@ -173,8 +176,9 @@ std::string AutoChoice::summary() const {
             std::snprintf(buffer, sizeof buffer, " %s %.2f%s", p.integrator.c_str(), p.predictedRmse,
                           &p == &predictions.back() ? "" : ",");
         else  // its pilot rendered fewer than two batches in its share
-            std::snprintf(buffer, sizeof buffer, " %s (no pilot in time: %d batches in %.2f s, %.2f s of it preprocessing)%s",
-                          p.integrator.c_str(), p.batches, p.pilotSeconds, p.preprocessSeconds,
+            std::snprintf(buffer, sizeof buffer,
+                          " %s (no pilot in time: %d of %d batches in %.2f s, %.2f s of it preprocessing)%s",
+                          p.integrator.c_str(), p.batches, kAutoPilotBatches, p.pilotSeconds, p.preprocessSeconds,
                           &p == &predictions.back() ? "" : ",");
         text += buffer;
     }

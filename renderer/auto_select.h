@@ -6,8 +6,9 @@
 //
 // Pilots are the final render in miniature: about kAutoPilotPixels pixels, the same camera, and
 // photon counts scaled with the pixel count (the same photons per pixel footprint). Each
-// technique preprocesses once and renders kAutoPilotBatches batches: consecutive ranges of sample
-// indices, each an image of its own (the progressive photon map's radii shrink across them as in
+// technique preprocesses once and renders up to kAutoPilotBatches batches in equal shares of the
+// time left (each at least one sample per pixel, so an expensive technique makes fewer):
+// consecutive ranges of sample indices, each an image of its own (the progressive photon map's radii shrink across them as in
 // one render). The batches of a cache share its cache, so the cache's error counts as bias: at
 // fixed parameters no number of camera samples removes it.
 //
@@ -58,8 +59,8 @@ struct RenderSettings;
 
 inline constexpr const char* kAutoIntegrator = "auto";
 // The techniques the pilots compare (ray tracing, "direct", misses indirect light by design).
-// A technique whose pilot cannot render a whole image in its share of the pilot time (its
-// preprocessing alone takes longer) is left out of the choice, and the log says so.
+// A technique whose pilot cannot render two batches in its share of the pilot time (its
+// preprocessing alone takes most of it) is left out of the choice, and the log says so.
 const std::vector<std::string>& autoCandidates();
 // Another technique must predict at most this share of the path tracer's MSE to be chosen.
 inline constexpr double kAutoMargin = 0.8;

@@ -155,7 +155,7 @@ TEST(Auto, LeavesOutIncompletePilotsAndFallsBackOnThePathTracer) {
     AutoChoice choice = predictFromPilots(pilots, kPilotPixels, 4.0 * kPilotPixels, 4.0);
     EXPECT_EQ(choice.integrator, "path");
     EXPECT_FALSE(prediction(choice, "photonMapFinalGather").complete);
-    EXPECT_NE(choice.summary().find("photonMapFinalGather (no pilot in time: 0 batches"), std::string::npos);
+    EXPECT_NE(choice.summary().find("photonMapFinalGather (no pilot in time: 0 of 8 batches"), std::string::npos);
     // Not even the path tracer's pilot: nothing to compare, the unbiased technique.
     EXPECT_EQ(predictFromPilots({AutoPilot{"path"}}, kPilotPixels, 4.0 * kPilotPixels, 4.0).integrator, "path");
 }
