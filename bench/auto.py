@@ -63,29 +63,35 @@ def main():
                   f"{ref_integrator} {ref.spp} spp in {ref_wall:.0f} s")
             print("| technique | seconds | spp | RMSE sRGB8 | FLIP |")
             print("|---|---|---|---|---|")
-            errors = {}
+            errors, walls = {}, {}
             for integrator in techniques + ["auto"]:
                 result, wall = render(loaded, integrator, resolution, budget)
                 m = metrics.compare(np.asarray(result.color), reference)
                 errors[integrator] = (m.rmse_srgb8, m.flip)
+                walls[integrator] = wall
                 label = integrator if integrator != "auto" else f"auto -> {result.integrator}"
                 print(f"| {label} | {wall:.1f} | {result.spp} | {m.rmse_srgb8:.2f} | {m.flip:.4f} |", flush=True)
                 if integrator == "auto":
                     print(f"\n{result.auto_summary}")
-            best_rmse = min(errors[t][0] for t in techniques)
+                    chosen, pilot_seconds = result.integrator, result.stats["auto_pilot_seconds"]
+            best = min(techniques, key=lambda t: errors[t][0])
+            best_rmse = errors[best][0]
             best_flip = min(errors[t][1] for t in techniques)
             auto_rmse, auto_flip = errors["auto"]
             row = (name, budget, auto_rmse / best_rmse, auto_flip / best_flip,
-                   auto_rmse / errors["path"][0], auto_flip / errors["path"][1])
+                   auto_rmse / errors["path"][0], auto_flip / errors["path"][1],
+                   chosen, best, pilot_seconds, walls["auto"], max(walls[t] for t in techniques))
             summary.append(row)
             print(f"auto / best: RMSE {row[2]:.2f}, FLIP {row[3]:.2f}; auto / path: RMSE {row[4]:.2f}, "
                   f"FLIP {row[5]:.2f}")
     print(f"\n## Summary (goal: auto / best <= {GOAL_OVER_BEST:.2f} and auto / path <= {GOAL_OVER_PATH:.2f})")
-    print("| scene | T | auto / best RMSE | auto / best FLIP | auto / path RMSE | auto / path FLIP | goal met |")
-    print("|---|---|---|---|---|---|---|")
-    for name, budget, rb, fb, rp, fp in summary:
+    print("| scene | T | auto chose | best (RMSE) | auto / best RMSE, FLIP | auto / path RMSE, FLIP | pilots | "
+          "auto took | slowest technique took | goal met |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for name, budget, rb, fb, rp, fp, chosen, best, pilots, auto_wall, slowest in summary:
         met = rb <= GOAL_OVER_BEST and fb <= GOAL_OVER_BEST and rp <= GOAL_OVER_PATH and fp <= GOAL_OVER_PATH
-        print(f"| {name} | {budget:g} s | {rb:.2f} | {fb:.2f} | {rp:.2f} | {fp:.2f} | {'yes' if met else 'no'} |")
+        print(f"| {name} | {budget:g} s | {chosen} | {best} | {rb:.2f}, {fb:.2f} | {rp:.2f}, {fp:.2f} | "
+              f"{pilots:.2f} s ({pilots / budget:.0%}) | {auto_wall:.1f} s | {slowest:.1f} s | {'yes' if met else 'no'} |")
 
 
 if __name__ == "__main__":

@@ -1,27 +1,46 @@
 // Automatic choice of technique (integrator "auto"), which the thesis left as future work: short
 // pilot renders of every global-illumination technique, at a reduced resolution, estimate on this
-// scene each one's noise (two seeds against each other) and bias (against the consistent
+// scene each one's noise (its batches against each other) and bias (against the consistent
 // techniques' pilots), predict each one's error at the render's time budget, and the renderer then
 // renders with the technique predicted best.
 //
 // Pilots are the final render in miniature: about kAutoPilotPixels pixels, the same camera, and
-// photon counts scaled with the pixel count (the same photons per pixel footprint).
-// The path tracer and the progressive photon map (whose photon maps belong to sample
-// indices) render two seeds; the other techniques preprocess once (their cache or photon map) and
-// render two disjoint ranges of sample indices, so the two images differ by camera-sample noise
-// only, and the error of the cache or map they share counts as their bias: at fixed parameters
-// no number of camera samples removes it.
+// photon counts scaled with the pixel count (the same photons per pixel footprint). Each
+// technique preprocesses once and renders up to kAutoPilotBatches batches in equal shares of the
+// time left (each at least one sample per pixel, so an expensive technique makes fewer):
+// consecutive ranges of sample indices, each an image of its own (the progressive photon map's radii shrink across them as in
+// one render). The batches of a cache share its cache, so the cache's error counts as bias: at
+// fixed parameters no number of camera samples removes it.
 //
-// The prediction, on 8-bit sRGB codes (the thesis's RMSE), per technique with pilot images a, b:
-//   noise  v = mean((a - b)^2) / 2                    one image's camera-sample variance
-//   error  e = mean(((a + b) / 2 - R)^2) - Var(R)     the two images' mean's squared error, where R
-//                                                     is the inverse-variance mean of the consistent
+// The prediction is of the RMSE on 8-bit sRGB codes f (the thesis's metric), and its noise part is
+// made from linear batch values, because f compresses highlights: in a pilot of few samples a
+// firefly (a caustic through glass) is clamped to code 255, so noise measured on pilot codes and
+// scaled by 1/time underestimates the final render's (measured on the Cornell box: 4.1 predicted,
+// 21 reached, in codes squared). Per pixel value, with batches B_k (K of them), M their mean,
+// c_k the mean of the values in its 3x3 pixel window over all batches but B_k itself (independent
+// of B_k, so a firefly in B_k does not move the point f is taken at for it as it moves M; and
+// spatially pooled, since f is steepest near 0 and a noisy centre makes (f')^2 too large on
+// average), d_k = (B_k - m_k) sqrt((K - 1) / K) with m_k the mean of the other batches (one
+// batch's deviation: Var(B_k - m_k) is K / (K - 1) times one batch's variance), an image of 1/q
+// batches' samples has, in codes squared,
+//   noise(q) = min(mean_k (f(c_k + q d_k) - f(c_k))^2 / q, max(f(M), 255 - f(M))^2)
+// (for small d this is f'(c)^2 Var(B) q, the delta method; a firefly counts with its full linear
+// size scaled to the render's samples and clamped as the render's codes will clamp it; a pixel's
+// error is at most the distance to code 0 or 255). Measured at 160x120 (noise of a render against
+// a second seed's, and the prediction from batches of 8 other seeds), in codes squared:
+//   Cornell box, path tracer, 256 samples: 21.2 reached; predicted from 8 batches of 16 samples
+//   23.2 (of 2 samples: 29.1); the old estimate on pilot codes: 4.1;
+//   Sponza, path tracer, 64 samples: 191 reached; predicted from 8 batches of 4 samples 175 (the
+//   old estimate 108; the centre without the window, c_k = m_k: 306).
+// Then, per technique,
+//   error  e = mean((f(M) - f(R))^2) - Var(f(R))      the pilot's mean's squared error, where R is
+//                                                     the inverse-variance mean of the consistent
 //                                                     techniques' pilots (path, progressivePhotonMap)
-//   bias   b2 = max(0, e - v / 2)
-//   MSE(T) = b2 * r + v * r for the consistent techniques (for the path tracer a missed bright
-//            path is noise, not bias, and the progressive photon map's radii shrink), and
-//            b2 + v * r for the others, where r is the pilot's render seconds per pixel over the
-//            final render's (its budget less its preprocessing, the pilot's grown with the pixel
+//   bias   b2 = max(0, e - noise(1 / K))
+//   MSE(T) = b2 * min(1, K r) + noise(r) for the consistent techniques (for the path tracer a
+//            missed bright path is noise, not bias, and the progressive photon map's radii shrink),
+//            and b2 + noise(r) for the others, where r is one batch's render seconds per pixel over
+//            the final render's (its budget less its preprocessing, the pilot's grown with the pixel
 //            count and at most kPreprocessShare of the budget). A cache's pilot had less
 //            preprocessing than the final render will have, so this errs on its pessimistic side.
 // A technique other than the path tracer is chosen only when its predicted MSE is below
@@ -40,20 +59,29 @@ struct RenderSettings;
 
 inline constexpr const char* kAutoIntegrator = "auto";
 // The techniques the pilots compare (ray tracing, "direct", misses indirect light by design).
-// A technique whose pilot cannot render a whole image in its share of the pilot time (its
-// preprocessing alone takes longer) is left out of the choice, and the log says so.
+// A technique whose pilot cannot render two batches in its share of the pilot time (its
+// preprocessing alone takes most of it) is left out of the choice, and the log says so.
 const std::vector<std::string>& autoCandidates();
 // Another technique must predict at most this share of the path tracer's MSE to be chosen.
 inline constexpr double kAutoMargin = 0.8;
-// Pilot images have about this many pixels (fewer if the render itself is smaller).
-inline constexpr int kAutoPilotPixels = 2048;
+// Pilot images have about this many pixels (fewer if the render itself is smaller): few enough
+// that, in 0.1 of a 10 s budget on 2 cores, the caches' pilots preprocess and still render
+// batches (at 2048 pixels the irradiance caches and the photon map's final gathering on the
+// Cornell box made one batch each).
+inline constexpr int kAutoPilotPixels = 1024;
+// Batches per pilot: the more, the less noisy the others' mean below (with the centre taken
+// without the window, Sponza's prediction was 486, 366 and 306 with 4, 6 and 8 batches for a true
+// 191); few enough that a batch of an expensive technique still takes a sample in every pixel.
+inline constexpr int kAutoPilotBatches = 8;
 
 struct AutoPrediction {
     std::string integrator;
     bool consistent = false;
-    bool complete = false;        // its pilots each rendered a whole image in their time
-    double renderSeconds = 0, preprocessSeconds = 0;  // of one pilot
-    double noise = 0, bias = 0;   // v and b2 above, sRGB codes squared
+    bool complete = false;        // its pilot rendered at least two whole batches in its time
+    int batches = 0;              // the batches it rendered
+    double pilotSeconds = 0;      // its share of the pilot time
+    double renderSeconds = 0, preprocessSeconds = 0;  // of one batch; of the pilot
+    double noise = 0, bias = 0;   // noise(1) (one batch's) and b2 above, sRGB codes squared
     double predictedRmse = 0;     // sqrt of the predicted MSE at the budget, sRGB codes
 };
 
@@ -67,14 +95,20 @@ struct AutoChoice {
     std::string summary() const;  // one line: the choice and every prediction
 };
 
-// A technique's two pilot images (sRGB codes, 0..255 unquantised), or none (incomplete).
+// A technique's pilot: its batches (linear RGB, every one the same size), or too few (incomplete).
 struct AutoPilot {
     std::string integrator;
-    std::vector<double> codes[2];
-    double renderSeconds = 0;      // of one image
-    double preprocessSeconds = 0;  // of the pilot's preprocessing (shared by its two images)
-    bool complete = false;
+    int width = 0, height = 0;
+    std::vector<std::vector<float>> batches;  // each width * height * 3
+    double seconds = 0;            // its share of the pilot time
+    double renderSeconds = 0;      // of one batch (their mean)
+    double preprocessSeconds = 0;  // of the pilot's preprocessing (shared by its batches)
+    bool complete = false;         // at least two batches
 };
+
+// noise(q) above: the mean squared error, in sRGB codes, of an image with 1/q times one of
+// the pilot's batches' samples (q = 1: one batch's noise).
+double predictedNoise(const AutoPilot& pilot, double q);
 
 // The prediction above from the pilots (each `pilotPixels` pixels) for a render of `pixels`
 // pixels with `budgetSeconds`; the choice among the complete pilots ("path" if none is).
