@@ -201,7 +201,19 @@ TEST(IrradianceRecord, GradientsPredictNearbyRecords) {
 
 // --- whole renders --------------------------------------------------------------------------
 
+// The caches at 128 paths and 4 spp in the sunlit corner: finite, non-negative, no pixel brighter
+// than the path-traced reference's brightest by more than its measured spread, and each channel's
+// mean the reference's within its measured spread.
+//
+// Measured over seeds 1-10, each against its own reference (seed 100 + s), the ratios (mean, sd):
+//   the brightest value over the reference's brightest: irradianceCache 1.0006 (0.027; worst
+//     1.068), adaptiveIrradianceCache 0.995 (0.014): bound the larger mean + 4 sd, 1.11 (was 1.25);
+//   each channel's mean over the reference's: irradianceCache red 0.9963 (0.0034), green and blue
+//     0.9987 (0.0019); adaptive 0.9959 (0.0018), 0.9987 (0.0014) -- a 0.4% bias in red (the wall's
+//     colour bleeding onto the floor, which the records interpolate) beside the reference's noise:
+//     bounds the larger |1 - mean| + 4 sd, 1.7% in red, 0.9% in green and blue (was 5%).
 TEST(IrradianceCacheRender, CornerIsFiniteAndPlausible) {
+    const double maxOverReferenceMax = 1.11, channelBound[3] = {0.017, 0.009, 0.009};
     Scene scene;
     buildCorner(scene);
     Rendered reference = render(scene, "path", 32, 256, {{"pathDepth", 5}});
@@ -213,11 +225,13 @@ TEST(IrradianceCacheRender, CornerIsFiniteAndPlausible) {
         for (size_t i = 0; i < image.rgb.size(); ++i) {
             ASSERT_TRUE(std::isfinite(image.rgb[i])) << integrator << " value " << i;
             ASSERT_GE(image.rgb[i], 0.0f) << integrator << " value " << i;
-            ASSERT_LE(image.rgb[i], 1.25f * referenceMax) << integrator << " value " << i;
+            ASSERT_LE(image.rgb[i], maxOverReferenceMax * referenceMax) << integrator << " value " << i;
         }
-        for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(channelMean(image.rgb, c), channelMean(reference.rgb, c), 0.05 * channelMean(reference.rgb, c))
-                << integrator << " channel " << c;
+        for (int c = 0; c < 3; ++c) {
+            double ratio = channelMean(image.rgb, c) / channelMean(reference.rgb, c);
+            std::printf("[ corner   ] %s channel %d: mean %.4f of the reference's\n", integrator, c, ratio);
+            EXPECT_NEAR(ratio, 1.0, channelBound[c]) << integrator << " channel " << c;
+        }
     }
 }
 
@@ -375,9 +389,21 @@ TEST_F(CornellBox, ErrorFallsAsAccuracyTightens) {
     for (int a = 0; a < 3; ++a) EXPECT_LT(f.adaptive[a] - f.plain[a], adaptiveBound[a]) << "accuracy index " << a;
 }
 
-// At (at least) equal record count the adaptive variant has no more seams than the plain
-// cache: the high-frequency energy of its error is no larger.
+// At (at least) equal record count the adaptive variant has no more seams than the plain cache
+// beyond what one seed resolves: the high-frequency energy of its error exceeds the plain cache's
+// by less than 4 sd of that difference.
+//
+// Measured over eight independent runs of makeReference(1000 k) and seed 1000 k + 1, k = 1..8: the
+// adaptive cache at accuracy 1 (495-538 records) against the plain cache at 1.5 (598-603 records),
+// energies 0.00060-0.00076; adaptive - plain -0.000013 (sd 0.000054), from -0.000074 to +0.00010
+// (in three runs of eight the adaptive cache is not ahead): one seed does not tell them apart, so
+// the bound is 4 sd, 0.00021 (it was "adaptive <= plain" on one seed, which passed by the seed's
+// luck). What this resolves is a gross excess, a third of the energy: the refinement switched off
+// (the adaptive cache its first fill, 416 records) reads 0.000621 and the refinement shrinking the
+// wrong records 0.000632, against 0.000604 and the plain cache's 0.000666 -- within the noise. The
+// adaptive cache's error against the plain cache's is bounded by ErrorFallsAsAccuracyTightens.
 TEST_F(CornellBox, AdaptiveHasNoMoreDiscontinuities) {
+    const double excessBound = 0.00021;
     Rendered adaptive = renderCache("adaptiveIrradianceCache", 1);
     double records = adaptive.stats.integrator.at("records");
     for (double accuracy : {1.0, 1.5, 2.0, 3.0, 4.0, 8.0}) {
@@ -386,7 +412,7 @@ TEST_F(CornellBox, AdaptiveHasNoMoreDiscontinuities) {
         double adaptiveHf = highFrequencyError(adaptive.rgb), plainHf = highFrequencyError(plain.rgb);
         std::printf("[ seams    ] adaptive %.0f records: %.3g; plain (accuracy %g) %.0f records: %.3g\n", records,
                     adaptiveHf, accuracy, plain.stats.integrator.at("records"), plainHf);
-        EXPECT_LE(adaptiveHf, plainHf);
+        EXPECT_LT(adaptiveHf - plainHf, excessBound);
         return;
     }
     FAIL() << "no plain cache reached " << records << " records";

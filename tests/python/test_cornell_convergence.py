@@ -174,11 +174,22 @@ def test_irradiance_cache_error_falls_as_accuracy_tightens(reference):
     assert squared_errors[0] > squared_errors[2], squared_errors
 
 
+SEAMS_EXCESS_BOUND = 0.0017  # the three-seed sum of adaptive - plain: its mean + 4 sd (docstring below)
+
+
 def test_adaptive_refinement_has_no_more_discontinuities(reference):
     """At about equal record count (the plain cache at the first accuracy that reaches the adaptive
-    cache's records at accuracy 1) the adaptive cache's error has no more high-frequency energy,
-    summed over three seeds (a single seed's figures differ by a few percent either way when
-    both caches are close). Over the whole image: the seams that matter are at the caustic."""
+    cache's records at accuracy 1) the adaptive cache's error has no more high-frequency energy
+    than the plain cache's beyond the noise, summed over three seeds. Over the whole image: the
+    seams that matter are at the caustic.
+
+    Measured over seeds 0-9 against the module's reference: adaptive - plain per seed -0.00048
+    (sd 0.00045; from -0.0011 to +0.00012), so a three-seed sum is -0.0014 (sd 0.00078): 1.8 sd
+    below zero, which "adaptive <= plain" needed (seeds 0-2 read -0.0028, lucky). Bound the
+    measured mean + 4 sd, 0.0017. The refinement shrinking the wrong records reads +0.0030 and
+    fails it; but the adaptive cache's lead comes from its first fill's placement: with the
+    refinement switched off, seeds 0-3 read -0.00003, -0.00097, -0.00077, -0.00005 and pass, so
+    this does not assert the refinement's own gain."""
     reference_indirect, away = reference
     adaptive_total = plain_total = 0.0
     for seed in (0, 1, 2):
@@ -197,7 +208,7 @@ def test_adaptive_refinement_has_no_more_discontinuities(reference):
         adaptive_total += a
         plain_total += p
     print(f"sum over seeds: adaptive {adaptive_total:.3g}, plain {plain_total:.3g}")
-    assert adaptive_total <= plain_total, (adaptive_total, plain_total)
+    assert adaptive_total - plain_total < SEAMS_EXCESS_BOUND, (adaptive_total, plain_total)
 
 
 # --- issue 5: photon mapping ----------------------------------------------------------------------
