@@ -95,7 +95,9 @@ PPM_BOUNDS = (0.0009, 0.0006)
 def test_progressive_photon_map_converges(sky_room, reference):
     """Consistency: the progressive photon map's error against the path-traced reference falls as
     samples (iterations, each a new photon map with a smaller radius) are added, at the rate its
-    shrinking radius gives (PPM_RATE); a radius that did not shrink would leave its bias."""
+    shrinking radius gives (PPM_RATE). At these sample counts a radius that never shrank would still
+    pass (its bias is below the noise: e^2 0.0190, 0.0036, 0.0017 with the radius fixed); the
+    schedule itself is checked in tests/cpp/test_photon_map.cpp (RadiusShrinksAsHachisukaAndJensen)."""
     errors = [float(np.mean((render(sky_room, "progressivePhotonMap", spp) - reference) ** 2)) / float(reference.mean()) ** 2
               - REFERENCE_VARIANCE for spp in (4, 16, 64)]
     print("progressivePhotonMap e^2 at 4, 16, 64 spp:", [f"{e:.5f}" for e in errors])
