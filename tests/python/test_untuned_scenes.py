@@ -51,7 +51,12 @@ def render(loaded, integrator, spp, seed=1):
     s.spp, s.integrator, s.seed = spp, integrator, seed
     result = _core.render(loaded.scene, s)
     assert result.stats["non_finite_samples"] == 0
-    assert result.stats["depth_capped_paths"] == 0
+    # Unbounded depths end by Russian roulette; the 1024 cap stops only paths trapped in the glass
+    # pane (total internal reflection). Measured at 8 spp over seeds 1-8: 0 capped paths, except
+    # photonMapIrradianceCache 2 (seed 4) and photonMapFinalGather 1 (seeds 2, 3); the 2048-spp
+    # path-traced references (seeds 100-104) 0. At the highest rate seen, 2 in 8 renders, a Poisson
+    # count reaches 4 with probability 1.4e-4: at most 3.
+    assert result.stats["depth_capped_paths"] <= 3, result.stats["depth_capped_paths"]
     return np.asarray(result.color)
 
 
