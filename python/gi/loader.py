@@ -429,7 +429,17 @@ def image_framing(schema, time, inherited, warn):
     return policy, aspect
 
 
-def camera_prim(stage, settings, requested, file):
+def relationship_targets(relationship, warn):
+    """A relationship's forwarded targets; [] with a warning naming it when the stage authors
+    something pxr cannot compose as one under its name (an attribute of that name)."""
+    try:
+        return list(relationship.GetForwardedTargets())
+    except UNREADABLE as error:
+        warn(str(relationship.GetPath()), f"could not be read as a relationship ({error_text(error)}); ignored")
+        return []
+
+
+def camera_prim(stage, settings, requested, file, warn):
     """The `requested` camera path, else the render settings' camera, else the first camera, else None."""
     if requested:
         prim = stage.GetPrimAtPath(requested) if requested.startswith("/") else None
@@ -437,7 +447,7 @@ def camera_prim(stage, settings, requested, file):
             raise SceneError(f"{file}: {requested} is not a camera prim")
         return prim
     if settings is not None:
-        for target in settings.GetCameraRel().GetForwardedTargets():
+        for target in relationship_targets(settings.GetCameraRel(), warn):
             prim = stage.GetPrimAtPath(target)
             if prim and prim.IsA(UsdGeom.Camera):
                 return prim
@@ -525,7 +535,9 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
     scene = scene if scene is not None else descriptors.new_scene()
     time = as_time_code(time)
     settings = render_settings(stage)
-    prim = camera_prim(stage, settings, camera, file)
+    early_warnings = []  # before the loader exists to hold them
+    prim = camera_prim(stage, settings, camera, file,
+                       lambda where, message: early_warnings.append(f"{file}: {where}: {message}"))
     shutter = None
     if prim is not None:
         try:
@@ -533,6 +545,7 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
         except UNREADABLE:  # reported with the rest of the camera below
             pass
     loader = StageLoader(stage, scene, time, file, refine_level, shutter)
+    loader.warnings += early_warnings
     for message in missing_layers(stage):
         loader.warn("/", f"not found, rendered without it: {message}")
     loader.load()

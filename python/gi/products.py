@@ -14,7 +14,7 @@ import numpy as np
 from pxr import UsdGeom, UsdRender
 
 from .errors import SceneError
-from .loader import image_framing
+from .loader import image_framing, relationship_targets
 from .loader import render_settings as stage_render_settings
 from .render import require_core
 
@@ -76,17 +76,17 @@ def read_products(stage, settings, time, camera_override, warn):
     if settings is None:
         return []
     base_resolution = tuple(_attribute(settings.GetResolutionAttr(), time, (512, 512)))
-    base_camera = camera_override or next((str(t) for t in settings.GetCameraRel().GetForwardedTargets()), "")
+    base_camera = camera_override or next((str(t) for t in relationship_targets(settings.GetCameraRel(), warn)), "")
     base_framing = image_framing(settings, time, None, lambda path, message: None)  # the loader warns
     products = []
-    for target in settings.GetProductsRel().GetForwardedTargets():
+    for target in relationship_targets(settings.GetProductsRel(), warn):
         prim = stage.GetPrimAtPath(target)
         if not prim or not prim.IsA(UsdRender.Product):
             warn(str(settings.GetPath()), f"products: {target} is not a RenderProduct; skipped")
             continue
         product = UsdRender.Product(prim)
         path = str(prim.GetPath())
-        camera = camera_override or next((str(t) for t in product.GetCameraRel().GetForwardedTargets()), base_camera)
+        camera = camera_override or next((str(t) for t in relationship_targets(product.GetCameraRel(), warn)), base_camera)
         camera_prim = stage.GetPrimAtPath(camera) if camera else None
         if camera and not (camera_prim and camera_prim.IsA(UsdGeom.Camera)):
             warn(path, f"camera {camera} does not exist or is not a camera; using "
@@ -100,7 +100,7 @@ def read_products(stage, settings, time, camera_override, warn):
         if not out.name:
             warn(path, "no productName; product skipped")
             continue
-        for var_path in product.GetOrderedVarsRel().GetForwardedTargets():
+        for var_path in relationship_targets(product.GetOrderedVarsRel(), warn):
             var_prim = stage.GetPrimAtPath(var_path)
             if not var_prim or not var_prim.IsA(UsdRender.Var):
                 warn(path, f"orderedVars: {var_path} is not a RenderVar; skipped")

@@ -36,12 +36,13 @@ def cornell():
     return CORNELL
 
 
-def run_gi(*args, check=True):
+def run_gi(*args, check=True, cwd=None):
     """Runs the gi CLI in a subprocess, as a user would (this checkout's gi when it has a core)."""
     env = dict(os.environ)
     if SOURCE_HAS_CORE:
         env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(SOURCE), env.get("PYTHONPATH")]))
-    proc = subprocess.run([sys.executable, "-m", "gi", *map(str, args)], capture_output=True, text=True, env=env)
+    proc = subprocess.run([sys.executable, "-m", "gi", *map(str, args)], capture_output=True, text=True, env=env,
+                          cwd=cwd)
     if check and proc.returncode != 0:
         raise AssertionError(f"gi {' '.join(map(str, args))} failed ({proc.returncode}):\n{proc.stderr}")
     return proc

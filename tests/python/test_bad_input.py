@@ -106,3 +106,55 @@ def test_allow_missing_renders_and_warns_for_each(tmp_path):
     warnings = [line for line in proc.stderr.splitlines() if "not found, rendered without it" in line]
     assert len(warnings) == 3 and all(str(path) in line for line in warnings), proc.stderr
     assert (tmp_path / "o.exr").exists()
+
+
+def test_render_settings_relationships_authored_as_attributes_warn_and_render(tmp_path):
+    """Found by the fuzzer: a RenderSettings whose `camera` (or a product's `orderedVars`) is authored
+    as an attribute, which pxr refuses to compose as a relationship, warns naming the property and
+    renders with what is left (the first camera; no product) instead of a traceback."""
+    scene = tmp_path / "scene.usda"
+    scene.write_text(RELATIONSHIPS_AS_ATTRIBUTES.replace("PRODUCT_PATH", str(tmp_path / "product.exr")))
+    proc = run_gi("render", scene, "--spp", 1, "--resolution", 8, 8, "-o", tmp_path / "o.exr", "--no-png", check=False)
+    assert proc.returncode == 0, proc.stderr
+    assert "Traceback" not in proc.stderr
+    assert "/Render/Settings.camera: could not be read as a relationship" in proc.stderr, proc.stderr
+    proc = run_gi("render", scene, "--spp", 1, "--no-png", check=False, cwd=tmp_path)  # reads the products
+    assert proc.returncode == 0, proc.stderr
+    assert "/Render/Product.orderedVars: could not be read as a relationship" in proc.stderr, proc.stderr
+
+
+RELATIONSHIPS_AS_ATTRIBUTES = """#usda 1.0
+(
+    renderSettingsPrimPath = "/Render/Settings"
+)
+
+def Camera "Cam"
+{
+    double3 xformOp:translate = (0, 0, 5)
+    uniform token[] xformOpOrder = ["xformOp:translate"]
+}
+
+def Sphere "Ball"
+{
+}
+
+def DistantLight "Sun"
+{
+}
+
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        custom string camera = "/Cam"
+        rel products = </Render/Product>
+        uniform int2 resolution = (8, 8)
+    }
+
+    def RenderProduct "Product"
+    {
+        custom string orderedVars = "/Render/Vars/Color"
+        token productName = "PRODUCT_PATH"
+    }
+}
+"""
