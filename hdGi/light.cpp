@@ -1,6 +1,7 @@
 #include "light.h"
 
 #include "pxr/base/gf/vec3f.h"
+#include "pxr/imaging/hd/material.h"
 #include "pxr/imaging/hd/sceneDelegate.h"
 #include "pxr/imaging/hd/tokens.h"
 #include "pxr/usd/sdf/assetPath.h"
@@ -14,7 +15,20 @@ HdDirtyBits HdGiLight::GetInitialDirtyBitsMask() const { return AllDirty; }
 
 namespace {
 
-std::string Kind(TfToken const& type) {
+// The shader id of a generic `light` sprim (UsdImaging's scene index gives UsdLux lights that
+// have no Hydra type of their own, such as PortalLight, this type; their light network's
+// terminal node names the schema).
+TfToken GenericLightShaderId(HdSceneDelegate* delegate, SdfPath const& id) {
+    VtValue resource = delegate->GetMaterialResource(id);
+    if (!resource.IsHolding<HdMaterialNetworkMap>()) return TfToken();
+    auto const& networks = resource.UncheckedGet<HdMaterialNetworkMap>().map;
+    auto network = networks.find(HdMaterialTerminalTokens->light);
+    if (network == networks.end() || network->second.nodes.empty()) return TfToken();
+    return network->second.nodes.back().identifier;
+}
+
+std::string Kind(TfToken const& type, HdSceneDelegate* delegate, SdfPath const& id) {
+    if (type == HdPrimTypeTokens->light) return GenericLightShaderId(delegate, id) == "PortalLight" ? "portal" : "";
     if (type == HdPrimTypeTokens->rectLight) return "rect";
     if (type == HdPrimTypeTokens->diskLight) return "disk";
     if (type == HdPrimTypeTokens->sphereLight) return "sphere";
@@ -46,7 +60,7 @@ void HdGiLight::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDi
         *dirtyBits = Clean;
         return;
     }
-    std::string kind = Kind(_lightType);
+    std::string kind = Kind(_lightType, delegate, id);
     auto light = std::make_shared<gi::LightDesc>();
     light->name = id.GetString();
     light->kind = kind;
@@ -75,7 +89,10 @@ void HdGiLight::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDi
 
     HdGiSceneStore& store = param->EditScene();
     if (kind.empty()) {
-        param->Warn(id, std::string(_lightType.GetText()) + " is not supported; ignored");
+        std::string what = _lightType == HdPrimTypeTokens->light
+                               ? "a light of shader '" + GenericLightShaderId(delegate, id).GetString() + "'"
+                               : std::string(_lightType.GetText());
+        param->Warn(id, what + " is not supported; ignored");
         store.SetLight(id, nullptr);
     } else {
         store.SetLight(id, visible ? std::shared_ptr<const gi::LightDesc>(light) : nullptr);

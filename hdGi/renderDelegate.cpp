@@ -24,13 +24,14 @@ TfTokenVector const kSprimTypes = {HdPrimTypeTokens->camera,        HdPrimTypeTo
                                    HdPrimTypeTokens->rectLight,     HdPrimTypeTokens->diskLight,
                                    HdPrimTypeTokens->sphereLight,   HdPrimTypeTokens->cylinderLight,
                                    HdPrimTypeTokens->distantLight,  HdPrimTypeTokens->domeLight,
-                                   HdPrimTypeTokens->extComputation};
+                                   HdPrimTypeTokens->light,         HdPrimTypeTokens->extComputation};
 TfTokenVector const kBprimTypes = {HdPrimTypeTokens->renderBuffer, HdPrimTypeTokens->renderSettings};
 
 bool IsLight(TfToken const& type) {
     return type == HdPrimTypeTokens->rectLight || type == HdPrimTypeTokens->diskLight ||
            type == HdPrimTypeTokens->sphereLight || type == HdPrimTypeTokens->cylinderLight ||
-           type == HdPrimTypeTokens->distantLight || type == HdPrimTypeTokens->domeLight;
+           type == HdPrimTypeTokens->distantLight || type == HdPrimTypeTokens->domeLight ||
+           type == HdPrimTypeTokens->light;  // generic: PortalLight (light.cpp)
 }
 
 }  // namespace
@@ -83,6 +84,7 @@ VtDictionary HdGiRenderDelegate::GetRenderStats() const {
     // The last build's BVH work: an edit builds only what it changed (gi::Scene::reuseBvhOf).
     stats["primitivesBuilt"] = s.primitivesBuilt;
     stats["primitivesReused"] = s.primitivesReused;
+    stats["portals"] = s.portals;
     // usdview's HUD shows this key.
     stats["percentDone"] = s.targetSamples > 0 ? 100.0 * s.samples / s.targetSamples : 0.0;
     return stats;

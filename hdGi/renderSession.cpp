@@ -65,6 +65,7 @@ void HdGiRenderSession::Run() {
     stats.texturesRead = int(_scene->stats().texturesRead);
     stats.primitivesBuilt = double(_scene->stats().primitivesBuilt);
     stats.primitivesReused = double(_scene->stats().primitivesReused);
+    stats.portals = int(_scene->stats().portals);
 
     gi::RenderSettings settings = job.settings;
     settings.width = job.dataWindow.GetWidth();

@@ -39,6 +39,7 @@ struct HdGiSessionStats {
     int textures = 0, texturesRead = 0;  // bound by the last scene build; of them read from disk
     // The last scene build's BVH work: triangles and spheres built, and kept from the scene before.
     double primitivesBuilt = 0, primitivesReused = 0;
+    int portals = 0;  // UsdLux portal lights in use (renderer/portal.h)
     int samples = 0, targetSamples = 0;
     uint64_t rays = 0;
     // Samples the renderer replaced because they were NaN, Inf or negative (a renderer bug;
