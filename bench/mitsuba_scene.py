@@ -68,6 +68,16 @@ class RecordingScene(CountingScene):
         self.instances = []   # (prototype, transform)
         self.camera = None
         self.framing = None  # the render settings' (conform policy, pixel aspect ratio); None: none
+        # What could not be recorded. The loader turns a scene call's exception into a warning and
+        # goes on (bad input never stops a render), so record() raises on these itself: a shape
+        # left out would make the two renderers compare different scenes.
+        self.failures = []
+
+    def still(self, name, *motion):
+        """Motion blur is not converted: the comparison is of still frames."""
+        if any(m is not None for m in motion):
+            self.failures.append(f"{name}: moves during the shutter; motion blur is not converted")
+            raise ConversionError(self.failures[-1])
 
     def add_material(self, material):
         self.materials.append(material)
@@ -77,19 +87,23 @@ class RecordingScene(CountingScene):
         self.prototypes.append(name)
         return len(self.prototypes) - 1
 
-    def add_mesh(self, name, positions, indices, normals, uvs, material, transform, double_sided, prototype):
+    def add_mesh(self, name, positions, indices, normals, uvs, material, transform, double_sided, prototype,
+                 motion_points=None, motion_transforms=None):
+        self.still(name, motion_points, motion_transforms)
         self.shapes.append(Shape(name, material, np.asarray(transform, np.float64), double_sided, prototype,
                                  np.asarray(positions, np.float64), np.asarray(indices, np.uint32),
                                  None if normals is None else np.asarray(normals, np.float64),
                                  None if uvs is None else np.asarray(uvs, np.float64)))
         return len(self.shapes) - 1
 
-    def add_sphere(self, name, center, radius, material, transform, prototype):
+    def add_sphere(self, name, center, radius, material, transform, prototype, motion_transforms=None):
+        self.still(name, motion_transforms)
         self.shapes.append(Shape(name, material, np.asarray(transform, np.float64), True, prototype,
                                  center=tuple(center), radius=float(radius)))
         return len(self.shapes) - 1
 
-    def add_instance(self, prototype, transform, name=""):
+    def add_instance(self, prototype, transform, name="", motion_transforms=None):
+        self.still(name, motion_transforms)
         self.instances.append((prototype, np.asarray(transform, np.float64)))
         return len(self.instances) - 1
 
@@ -106,6 +120,11 @@ def record(path, camera=None):
     from gi.loader import load_stage
     scene = RecordingScene()
     loaded = load_stage(str(path), scene=scene, camera=camera)
+    if scene.failures:
+        raise ConversionError("; ".join(scene.failures))
+    unread = [str(w) for w in loaded.warnings if "could not be read" in str(w)]
+    if unread:  # e.g. a scene call this class does not take: the loader warns and leaves the prim out
+        raise ConversionError(f"{path}: prims not recorded: " + "; ".join(unread[:3]))
     scene.framing = loaded.framing
     return scene, loaded
 
