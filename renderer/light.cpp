@@ -83,13 +83,16 @@ public:
         L_ = L;
         area_ = length(cross(e1, e2));
         rectangular_ = std::fabs(dot(e1, e2)) <= 1e-4f * length(e1) * length(e2);  // not sheared
+        center_ = p0 + (e1 + e2) * 0.5f;
+        diagonalSquared_ = lengthSquared(e1 + e2);
     }
     // Directions uniform over the solid angle the rect subtends (sampling.h): a point beside a
     // large rect light (a wall next to a window) gets none of the 1/d^2 spikes of area sampling.
-    // Tiny solid angles (float trouble), near-hemispheres and sheared rects sample by area, as
-    // pbrt-v4 does; pdf() decides the same way.
+    // Far rects (below), tiny solid angles (float trouble), near-hemispheres and sheared rects
+    // sample by area, as pbrt-v4 does for the last three; pdf() decides the same way.
     LightSample sample(const Vec3& ref, Vec2 u) const override {
         if (!(dot(ref - p0_, n_) > 0)) return {};  // behind the one-sided light
+        if (!near(ref)) return AreaLight::sample(ref, u);
         SphericalRectangle rect(ref, p0_, e1_, e2_);
         if (!sampledBySolidAngle(rect)) return AreaLight::sample(ref, u);
         Vec3 d = rect.sample(u) - ref;
@@ -110,8 +113,10 @@ public:
     float area() const override { return area_; }
     float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
         if (!(dot(ref - p0_, n_) > 0)) return 0;
-        SphericalRectangle rect(ref, p0_, e1_, e2_);
-        if (sampledBySolidAngle(rect)) return 1 / rect.solidAngle;
+        if (near(ref)) {
+            SphericalRectangle rect(ref, p0_, e1_, e2_);
+            if (sampledBySolidAngle(rect)) return 1 / rect.solidAngle;
+        }
         return areaToSolidAngle(1 / area_, t, dot(-wi, n_));
     }
     Color radiance(const Vec3& wi) const override { return dot(-wi, n_) > 0 ? L_ : Color(0); }
@@ -135,11 +140,21 @@ public:
     }
 
 private:
+    // Whether the rect is near enough for solid-angle sampling to pay: its diagonal longer than
+    // kNearDiagonal times the distance to its centre (a wall beside a window). Farther, area
+    // sampling's solid-angle density d^2 / cos varies over the rect by a bounded factor and
+    // skips the spherical rectangle's trigonometry. Measured on the Cornell box's path tracer
+    // (96x96, 128 spp, one thread, four seeds): the same variance to 0.05% (caustics dominate
+    // it), 20% less CPU time than solid-angle sampling everywhere.
+    static constexpr float kNearDiagonal = 1.0f;
+    bool near(const Vec3& ref) const {
+        return rectangular_ && diagonalSquared_ > kNearDiagonal * kNearDiagonal * lengthSquared(center_ - ref);
+    }
     bool sampledBySolidAngle(const SphericalRectangle& rect) const {
         return rectangular_ && rect.solidAngle > 3e-4f && rect.solidAngle < 6.22f;
     }
-    Vec3 p0_, e1_, e2_, n_;
-    float area_;
+    Vec3 p0_, e1_, e2_, n_, center_;
+    float area_, diagonalSquared_ = 0;
     bool rectangular_ = true;
 };
 

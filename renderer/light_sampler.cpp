@@ -166,7 +166,9 @@ int LightSampler::sample(const Vec3& p, float u, float* pmf) const {
             node = second;
         }
     }
-    if (!(nodes_[node].bounds.importance(p) > 0)) return -1;  // it cannot reach p
+    // A light that cannot reach p is not drawn; a lone light is not tested: its own sample()
+    // rejects what it cannot reach as cheaply (one-sided rects and disks) as the importance would.
+    if (nodes_.size() > 1 && !(nodes_[node].bounds.importance(p) > 0)) return -1;
     *pmf = prob;
     return nodes_[node].light;
 }
@@ -187,7 +189,7 @@ float LightSampler::pmf(const Vec3& p, int light) const {
         node = takeSecond ? second : first;
         trail >>= 1;
     }
-    if (nodes_[node].light != light || !(nodes_[node].bounds.importance(p) > 0)) return 0;
+    if (nodes_[node].light != light || (nodes_.size() > 1 && !(nodes_[node].bounds.importance(p) > 0))) return 0;
     return prob;
 }
 

@@ -208,9 +208,11 @@ TEST(AnalyticLights, BvhHitsWhatOneByOneTestsHit) {
 }
 
 TEST(Lights, RectLightSamplesUniformlyInSolidAngle) {
-    // A 2 x 1 rect light seen from beside it (a wall next to a window), sideways and from afar: each
-    // sample lands on the rect, its pdf is pdf()'s, and E[1/pdf] is the solid angle the rect
-    // subtends, counted independently as the share of uniform sphere directions that hit it.
+    // A 2 x 1 rect light seen from beside it (a wall next to a window), from near its edge, sideways
+    // and from afar: each sample lands on the rect, its pdf is pdf()'s, and E[1/pdf] is the solid
+    // angle the rect subtends, counted independently as the share of uniform sphere directions that
+    // hit it. Within a diagonal (sqrt 5) of its centre the samples are uniform in solid angle;
+    // farther they are uniform by area (light.cpp's RectLight::near).
     LightDesc d;
     d.name = "/Window";
     d.kind = "rect";
@@ -219,7 +221,8 @@ TEST(Lights, RectLightSamplesUniformlyInSolidAngle) {
     std::string warning;
     std::unique_ptr<Light> light = createLight(d, warning);  // in the z = 0 plane, emitting towards -z
     ASSERT_TRUE(light) << warning;
-    for (Vec3 ref : {Vec3(0.9f, 0.4f, -0.05f), Vec3(3, -2, -1), Vec3(0.2f, 0.1f, -40)}) {
+    for (Vec3 ref : {Vec3(0.9f, 0.4f, -0.05f), Vec3(1.5f, -1, -0.5f), Vec3(3, -2, -1), Vec3(0.2f, 0.1f, -40)}) {
+        const bool near = length(ref) < std::sqrt(5.0f);
         double sumInversePdf = 0, minPdf = kInf, maxPdf = 0;
         const int n = 4096;
         for (int i = 0; i < n; ++i) {
@@ -244,7 +247,19 @@ TEST(Lights, RectLightSamplesUniformlyInSolidAngle) {
         double solidAngle = 4 * kPi * hits / directions;
         double sd = 4 * kPi * std::sqrt(double(hits)) / directions;  // binomial, hits << directions
         EXPECT_NEAR(sumInversePdf / n, solidAngle, 4 * sd + 1e-3 * solidAngle) << "from z = " << ref.z;
-        EXPECT_NEAR(minPdf, maxPdf, 1e-4 * maxPdf) << "uniform in solid angle, from z = " << ref.z;
+        if (near) {
+            EXPECT_NEAR(minPdf, maxPdf, 1e-4 * maxPdf) << "uniform in solid angle, from z = " << ref.z;
+        } else {  // by area: between the density d^2 / (A cos) = d^3 / (A |z|) of the rect's point
+                  // nearest to ref and of its farthest corner
+            auto density = [&](Vec3 q) { double d = length(q - ref); return d * d * d / (2 * std::fabs(ref.z)); };
+            double nearest = density(Vec3(std::clamp(ref.x, -1.0f, 1.0f), std::clamp(ref.y, -0.5f, 0.5f), 0));
+            double farthest = 0;
+            for (float x : {-1.0f, 1.0f})
+                for (float y : {-0.5f, 0.5f}) farthest = std::max(farthest, density(Vec3(x, y, 0)));
+            EXPECT_GT(maxPdf, minPdf * (1 + 1e-3)) << "by area, from z = " << ref.z;
+            EXPECT_GE(minPdf, 0.999 * nearest) << "from z = " << ref.z;
+            EXPECT_LE(maxPdf, 1.001 * farthest) << "from z = " << ref.z;
+        }
     }
     // Behind the one-sided light: nothing.
     EXPECT_EQ(light->sample(Vec3(0, 0, 1), Vec2(0.5f, 0.5f)).pdf, 0.0f);
