@@ -70,7 +70,8 @@ VtDictionary HdGiRenderDelegate::GetRenderStats() const {
     HdGiSessionStats s = _session->Stats();
     VtDictionary stats;
     stats["sceneBuildSeconds"] = s.sceneBuildSeconds;
-    stats["firstPixelSeconds"] = s.firstPixelSeconds;
+    stats["firstPixelSeconds"] = s.firstPixelSeconds;  // a low-resolution preview's, in a large view
+    stats["firstPassSeconds"] = s.firstPassSeconds;
     stats["renderSeconds"] = s.renderSeconds;
     stats["samples"] = s.samples;
     stats["rays"] = double(s.rays);

@@ -70,6 +70,7 @@ void HdGiRenderSession::Run() {
     gi::RenderSettings settings = job.settings;
     settings.width = job.dataWindow.GetWidth();
     settings.height = job.dataWindow.GetHeight();
+    if (_RenderPreview(job, settings)) stats.firstPixelSeconds = SecondsSince(start);
     std::unique_ptr<gi::Renderer> renderer;
     try {
         renderer = std::make_unique<gi::Renderer>(*_scene, settings, job.camera ? &*job.camera : nullptr);
@@ -99,7 +100,8 @@ void HdGiRenderSession::Run() {
         }
         int taken = renderer->samplesTaken();
         converged = taken >= target || end == gi::PassEnd::Deadline || (deadline > 0 && gi::steadySeconds() >= deadline);
-        if (stats.firstPixelSeconds == 0) stats.firstPixelSeconds = SecondsSince(start);
+        if (stats.firstPassSeconds == 0) stats.firstPassSeconds = SecondsSince(start);
+        if (stats.firstPixelSeconds == 0) stats.firstPixelSeconds = stats.firstPassSeconds;  // no preview
         // Products first: usdrecord looks for their files once the AOVs say converged.
         if (converged && !job.products.empty()) _WriteProducts(*renderer, job);
         _WriteAovs(*renderer, job, converged);
@@ -127,9 +129,51 @@ void HdGiRenderSession::Run() {
     _converged = converged;
 }
 
+bool HdGiRenderSession::_RenderPreview(HdGiRenderJob const& job, gi::RenderSettings const& settings) {
+    // An interactive view's first pixels within a few tens of milliseconds of an edit, as
+    // Cycles' start resolution gives them: one path-traced sample per pixel at 1/kPreviewScale of
+    // the resolution, shown enlarged, before the first real pass (a 1-sample pass over a whole
+    // 597x540 Sponza takes about a second on two cores). It is never accumulated: the image
+    // after the first pass is the one without a preview, bit for bit. Batch output (products)
+    // and small views, whose first pass is quick anyway, skip it.
+    constexpr int kPreviewScale = 8, kPreviewFromPixels = 256 * 256;
+    if (job.productMode || settings.width * settings.height < kPreviewFromPixels) return false;
+    gi::RenderSettings preview = settings;
+    preview.width = (settings.width + kPreviewScale - 1) / kPreviewScale;
+    preview.height = (settings.height + kPreviewScale - 1) / kPreviewScale;
+    preview.window = gi::PixelWindow();
+    preview.integrator = "path";
+    preview.params = gi::ParamSet();
+    preview.preset.clear();
+    preview.spp = 1;
+    preview.timeLimit = 0;
+    preview.recordRays = nullptr;
+    try {
+        gi::Renderer renderer(*_scene, preview, job.camera ? &*job.camera : nullptr);
+        if (renderer.renderNextPass(1, 0, _cancel) != gi::PassEnd::Complete) return false;
+        _WriteAovs(renderer, job, false);
+    } catch (std::exception const&) {
+        return false;  // the real render reports what is wrong
+    }
+    return true;
+}
+
 namespace {
 
 HdGiRenderBuffer* BufferOf(HdRenderPassAovBinding const& aov) { return dynamic_cast<HdGiRenderBuffer*>(aov.renderBuffer); }
+
+// A film's pixels (channels per pixel, row by row) enlarged to width x height, nearest pixel.
+template <typename T>
+std::vector<T> Enlarged(std::vector<T> const& pixels, int channels, gi::Film const& film, int width, int height) {
+    if (film.width() == width && film.height() == height) return pixels;
+    std::vector<T> out(size_t(width) * height * channels);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            size_t from = (size_t(y) * film.height() / height * film.width() + size_t(x) * film.width() / width) * channels;
+            std::copy_n(pixels.begin() + from, channels, out.begin() + (size_t(y) * width + x) * channels);
+        }
+    return out;
+}
 
 // The film's shape or instance ids as Hydra's (prim ids, instance indices); -1 where none.
 std::vector<int32_t> HydraIds(std::vector<int32_t> ids, std::vector<int> const& map) {
@@ -186,6 +230,10 @@ void HdGiRenderSession::_WriteProducts(gi::Renderer const& renderer, HdGiRenderJ
 void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged) {
     gi::Film const& film = renderer.film();
     GfRect2i const& window = job.dataWindow;
+    // A preview's film is smaller than the window (_RenderPreview).
+    auto fit = [&](auto const& pixels, int channels) {
+        return Enlarged(pixels, channels, film, window.GetWidth(), window.GetHeight());
+    };
     for (HdRenderPassAovBinding const& aov : job.aovs) {
         HdGiRenderBuffer* buffer = BufferOf(aov);
         if (!buffer) continue;
@@ -195,9 +243,9 @@ void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob c
         }
         TfToken const& name = aov.aovName;
         if (name == HdAovTokens->color) {
-            buffer->WriteFloats(_Color(film, job, converged).data(), 3, window, 1.0f);
+            buffer->WriteFloats(fit(_Color(film, job, converged), 3).data(), 3, window, 1.0f);
         } else if (name == HdAovTokens->depth || name == HdAovTokens->cameraDepth) {
-            std::vector<float> depth = film.depth();
+            std::vector<float> depth = fit(film.depth(), 1);
             for (float& d : depth) {
                 bool hit = std::isfinite(d);
                 if (name == HdAovTokens->depth) d = hit ? ClipDepth(job.projection, d) : 1.0f;
@@ -205,13 +253,13 @@ void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob c
             }
             buffer->WriteFloats(depth.data(), 1, window, 0.0f);
         } else if (name == HdAovTokens->normal) {
-            buffer->WriteFloats(film.normal().data(), 3, window, 0.0f);
+            buffer->WriteFloats(fit(film.normal(), 3).data(), 3, window, 0.0f);
         } else if (name == TfToken("albedo")) {
-            buffer->WriteFloats(film.albedo().data(), 3, window, 0.0f);
+            buffer->WriteFloats(fit(film.albedo(), 3).data(), 3, window, 0.0f);
         } else if (name == HdAovTokens->primId) {
-            buffer->WriteInts(HydraIds(film.shapeIds(), _ids.shapePrimId).data(), window);
+            buffer->WriteInts(fit(HydraIds(film.shapeIds(), _ids.shapePrimId), 1).data(), window);
         } else if (name == HdAovTokens->instanceId) {
-            buffer->WriteInts(HydraIds(film.instanceIds(), _ids.instanceIndex).data(), window);
+            buffer->WriteInts(fit(HydraIds(film.instanceIds(), _ids.instanceIndex), 1).data(), window);
         }
         // Anything else (elementId, unsupported AOVs) keeps its clear value.
         buffer->SetConverged(converged);

@@ -34,7 +34,9 @@ struct HdGiRenderJob {
 };
 
 struct HdGiSessionStats {
-    double sceneBuildSeconds = 0, firstPixelSeconds = 0, renderSeconds = 0;
+    // firstPixelSeconds: the first pixels shown, a preview's when there is one (_RenderPreview);
+    // firstPassSeconds: the end of the first real pass.
+    double sceneBuildSeconds = 0, firstPixelSeconds = 0, firstPassSeconds = 0, renderSeconds = 0;
     double lastTileTime = 0;  // steady_clock seconds: when the renderer last finished a tile
     int textures = 0, texturesRead = 0;  // bound by the last scene build; of them read from disk
     // The last scene build's BVH work: triangles and spheres built, and kept from the scene before.
@@ -62,6 +64,8 @@ public:
 
 private:
     void _WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged);
+    // A quick low-resolution image into the AOVs before the first pass; false if none was shown.
+    bool _RenderPreview(HdGiRenderJob const& job, gi::RenderSettings const& settings);
     // The film's colour, denoised when the job asks for it and Open Image Denoise is there.
     // The job's render products, written from the converged film (products.h).
     void _WriteProducts(gi::Renderer const& renderer, HdGiRenderJob const& job);
