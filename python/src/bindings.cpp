@@ -591,6 +591,18 @@ void bindRendering(nb::module_& m) {
     m.def("frame_path", &substituteFrame, "path"_a, "frame"_a,
           "`path` with $F, $F<width> and #### replaced by `frame` (zero-padded to the width).");
     m.def("has_frame_token", &hasFrameToken, "path"_a);
+    m.def(
+        "data_window_pixels",
+        [](std::tuple<float, float, float, float> ndc, int width, int height) {
+            std::string problem;
+            auto [xmin, ymin, xmax, ymax] = ndc;
+            PixelWindow w = dataWindowPixels(xmin, ymin, xmax, ymax, width, height, &problem);
+            return std::make_tuple(std::make_tuple(w.x0, w.y0, w.x1, w.y1), problem);
+        },
+        "ndc"_a, "width"_a, "height"_a,
+        "((x0, y0, x1, y1) pixels, row 0 at the top; problem) for a dataWindowNDC (xmin, ymin, xmax, ymax): "
+        "the pixels whose centres it holds, clipped to the image (renderer/pixel_window.h); problem: '' "
+        "or a sentence for a warning.");
 
     m.def(
         "write_channels_exr",
