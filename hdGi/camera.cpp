@@ -7,7 +7,6 @@
 #include "pxr/imaging/hd/timeSampleArray.h"
 #include "renderParam.h"
 #include "sceneStore.h"
-#include "renderer/motion.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
 
@@ -33,13 +32,10 @@ void HdGiCamera::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdD
 }
 
 std::vector<GfMatrix4d> HdGiCamera::MotionSteps() const {
-    std::vector<GfMatrix4d> steps;
-    if (_motionTimes.size() < 2) return steps;
+    std::vector<GfMatrix4d> steps =
+        HdGiTransformSteps(_motionTimes, _motionSamples, float(GetShutterOpen()), float(GetShutterClose()));
     bool moves = false;
-    for (float t : gi::shutterStepTimes(float(GetShutterOpen()), float(GetShutterClose()), {&_motionTimes})) {
-        steps.push_back(gi::sampleAt(_motionTimes, _motionSamples, t, HdGiLerp));
-        moves = moves || steps.back() != steps.front();
-    }
+    for (GfMatrix4d const& step : steps) moves = moves || step != steps.front();
     if (!moves) steps.clear();
     return steps;
 }

@@ -3,9 +3,11 @@
 #include "pxr/base/gf/vec3f.h"
 #include "pxr/imaging/hd/material.h"
 #include "pxr/imaging/hd/sceneDelegate.h"
+#include "pxr/imaging/hd/timeSampleArray.h"
 #include "pxr/imaging/hd/tokens.h"
 #include "pxr/usd/sdf/assetPath.h"
 #include "renderParam.h"
+#include "sceneStore.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
 
@@ -61,7 +63,8 @@ void HdGiLight::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDi
         return;
     }
     std::string kind = Kind(_lightType, delegate, id);
-    auto light = std::make_shared<gi::LightDesc>();
+    auto record = std::make_shared<HdGiLightRecord>();
+    gi::LightDesc* light = &record->desc;
     light->name = id.GetString();
     light->kind = kind;
     GfVec3f color(1.0f);
@@ -85,6 +88,16 @@ void HdGiLight::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDi
             param->Warn(id, "texture file '" + texture.GetAssetPath() + "' was not found; using the light's color");
     }
     light->transform = HdGiToMat4(delegate->GetTransform(id));
+    // The transform's motion for blur, over the cameras' shutters (HdGiRenderParam's sampling
+    // interval: cameras sync before lights) and at least a frame either side of the frame. A light
+    // is an sprim, which 24.11's scene index emulation gives no way to mark for resampling when a
+    // shutter is edited later (gprim.h's HdGiDirtyShutter reaches rprims only); the wider interval
+    // keeps such an edit within a frame of the frame blurred right.
+    GfVec2f const interval = param->SamplingInterval();
+    HdTimeSampleArray<GfMatrix4d, 4> samples;
+    delegate->SampleTransform(id, std::min(interval[0], -1.0f), std::max(interval[1], 1.0f), &samples);
+    record->transformTimes.assign(samples.times.begin(), samples.times.begin() + samples.count);
+    record->transformSamples.assign(samples.values.begin(), samples.values.begin() + samples.count);
     bool visible = delegate->GetVisible(id);
 
     HdGiSceneStore& store = param->EditScene();
@@ -95,7 +108,7 @@ void HdGiLight::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDi
         param->Warn(id, what + " is not supported; ignored");
         store.SetLight(id, nullptr);
     } else {
-        store.SetLight(id, visible ? std::shared_ptr<const gi::LightDesc>(light) : nullptr);
+        store.SetLight(id, visible ? std::shared_ptr<const HdGiLightRecord>(record) : nullptr);
     }
     *dirtyBits = Clean;
 }

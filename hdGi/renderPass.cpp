@@ -5,6 +5,8 @@
 #include "pxr/imaging/hd/renderIndex.h"
 #include "pxr/imaging/hd/renderPassState.h"
 #include "pxr/imaging/hd/tokens.h"
+#include "pxr/imaging/hd/utils.h"
+#include "products.h"
 #include "renderBuffer.h"
 #include "renderSettings.h"
 
@@ -86,11 +88,11 @@ gi::ImageFraming ViewportFraming(HdRenderPassStateSharedPtr const& state, GfRect
 }
 
 // A batch host's render products (usdrecord sets enableInteractive false) are rendered as the
-// stage declares them: the first product's camera, resolution, aspect ratio conform policy and
-// pixel aspect ratio, instead of the host's viewport.
+// stage declares them: the first product's camera, resolution, aspect ratio conform policy, pixel
+// aspect ratio and data window (`window`, pixels of the resolution), instead of the host's viewport.
 bool ProductFraming(HdRenderIndex* index, HdRenderSettings::RenderProducts const& products,
                     std::optional<gi::CameraDesc>* camera, gi::ImageFraming* framing, GfRect2i* dataWindow,
-                    std::vector<std::string>* problems) {
+                    gi::PixelWindow* window, std::vector<std::string>* problems) {
     HdRenderSettings::RenderProduct const& product = products.front();
     if (product.resolution[0] <= 0 || product.resolution[1] <= 0) return false;
     auto const* sprim = dynamic_cast<HdCamera const*>(index->GetSprim(HdPrimTypeTokens->camera, product.cameraPath));
@@ -109,8 +111,9 @@ bool ProductFraming(HdRenderIndex* index, HdRenderSettings::RenderProducts const
                             gi::apertureConformToken(framing->conform) + " is used");
     framing->pixelAspectRatio = product.pixelAspectRatio;
     *dataWindow = GfRect2i(GfVec2i(0), product.resolution[0], product.resolution[1]);
-    if (product.dataWindowNDC != GfRange2f(GfVec2f(0.0f), GfVec2f(1.0f)))
-        problems->push_back(where + ": dataWindowNDC is not supported through Hydra; the whole image is rendered");
+    std::string problem;
+    *window = HdGiProductWindow(product, product.resolution[0], product.resolution[1], &problem);
+    if (!problem.empty()) problems->push_back(where + ": " + problem);
     return true;
 }
 
@@ -139,13 +142,20 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
     gi::ImageFraming framing = ViewportFraming(state, dataWindow);
     HdRenderSettings::RenderProducts products;
     bool productMode = false;
+    gi::PixelWindow window;  // the pixels rendered: empty, all of dataWindow
     if (!delegate->GetRenderSetting<bool>(HdRenderSettingsTokens->enableInteractive, true) &&
         !(products = _param->Products()).empty()) {
         std::vector<std::string> problems;
-        productMode = ProductFraming(GetRenderIndex(), products, &camera, &framing, &dataWindow, &problems);
+        productMode = ProductFraming(GetRenderIndex(), products, &camera, &framing, &dataWindow, &window, &problems);
         for (std::string const& problem : problems) _param->Warn(problem);
     }
-    if (dataWindow != _dataWindow) restart = true;
+    // The frame the host renders (usdrecord's time code, through the scene globals' currentFrame):
+    // it names the products' files, so a new frame writes them again even where nothing moved.
+    std::optional<double> frame;
+    double currentFrame = 0;
+    if (!products.empty() && HdUtils::GetCurrentFrame(GetRenderIndex()->GetTerminalSceneIndex(), &currentFrame))
+        frame = currentFrame;
+    if (dataWindow != _dataWindow || !(window == _window) || frame != _frame) restart = true;
     HdRenderPassAovBindingVector aovs = state->GetAovBindings();
     for (HdRenderPassAovBinding& aov : aovs)
         if (!aov.renderBuffer && !aov.renderBufferId.IsEmpty())
@@ -173,11 +183,15 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
     _view = view;
     _projection = projection;
     _dataWindow = dataWindow;
+    _window = window;
+    _frame = frame;
     _aovs = aovs;
 
     HdGiRenderJob job;
     job.settings = HdGiReadSettings(*delegate);
     job.settings.framing = framing;
+    job.settings.window = window;
+    job.frame = frame;
     job.denoise = HdGiReadDenoise(*delegate);
     job.products = products;
     job.productMode = productMode;

@@ -2,6 +2,7 @@
 // settings, the camera, the framing or the AOV bindings changed, and reports convergence.
 #pragma once
 #include <atomic>
+#include <optional>
 
 #include "pxr/base/gf/matrix4d.h"
 #include "pxr/base/gf/rect2i.h"
@@ -29,6 +30,8 @@ private:
     int _sceneVersion = -1, _settingsVersion = -1;
     GfMatrix4d _view{0.0}, _projection{0.0};
     GfRect2i _dataWindow;
+    gi::PixelWindow _window;
+    std::optional<double> _frame;
     bool _warnedNoCamera = false;
     HdRenderPassAovBindingVector _aovs;
     bool _started = false;

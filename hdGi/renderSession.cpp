@@ -223,8 +223,13 @@ void HdGiRenderSession::_WriteProducts(gi::Renderer const& renderer, HdGiRenderJ
     std::map<std::string, std::string> metadata = {{"gi:integrator", job.settings.integrator},
                                                    {"gi:spp", std::to_string(renderer.samplesTaken())},
                                                    {"gi:seed", std::to_string(job.settings.seed)}};
-    HdGiWriteProducts(job.products, job.dataWindow.GetWidth(), job.dataWindow.GetHeight(), pixels, metadata,
-                      [this](std::string const& message) { _param->Warn(message); });
+    if (job.frame) {  // as `gi render --frames` records it
+        char text[64];
+        std::snprintf(text, sizeof text, "%g", *job.frame);
+        metadata["gi:frame"] = text;
+    }
+    HdGiWriteProducts(job.products, job.dataWindow.GetWidth(), job.dataWindow.GetHeight(), job.settings.window,
+                      job.frame, pixels, metadata, [this](std::string const& message) { _param->Warn(message); });
 }
 
 void HdGiRenderSession::_WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged) {

@@ -28,6 +28,7 @@ struct HdGiRenderJob {
     bool domeLightCameraVisibility = true;
     bool denoise = false;  // gi:denoise: the colour AOV denoised after each pass
     HdRenderSettings::RenderProducts products;  // written when the render converges
+    std::optional<double> frame;  // the host's current frame (names the products' files); none: not set
     // Rendered at the products' camera and resolution (a batch host): the AOV buffers, sized for
     // the host's viewport, are only marked converged.
     bool productMode = false;

@@ -13,7 +13,15 @@ void HdGiSceneStore::SetGeometry(SdfPath const& id, std::shared_ptr<const HdGiGe
     else _geometry.erase(id);
 }
 
-void HdGiSceneStore::SetLight(SdfPath const& id, std::shared_ptr<const gi::LightDesc> light) {
+std::vector<GfMatrix4d> HdGiTransformSteps(std::vector<float> const& times, std::vector<GfMatrix4d> const& samples,
+                                           float open, float close) {
+    std::vector<GfMatrix4d> steps;
+    if (times.size() < 2) return steps;
+    for (float t : gi::shutterStepTimes(open, close, {&times})) steps.push_back(gi::sampleAt(times, samples, t, HdGiLerp));
+    return steps;
+}
+
+void HdGiSceneStore::SetLight(SdfPath const& id, std::shared_ptr<const HdGiLightRecord> light) {
     std::lock_guard<std::mutex> lock(_mutex);
     if (light) _lights[id] = std::move(light);
     else _lights.erase(id);
@@ -164,7 +172,7 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
                                                  gi::Scene const* previous) const {
     // Snapshot under the lock (records are immutable once stored), build outside it.
     std::vector<std::shared_ptr<const HdGiGeometry>> geometry;
-    std::vector<std::shared_ptr<const gi::LightDesc>> lights;
+    std::vector<std::shared_ptr<const HdGiLightRecord>> lights;
     std::map<SdfPath, std::shared_ptr<const gi::MaterialDesc>> materials;
     {
         std::lock_guard<std::mutex> lock(_mutex);
@@ -197,8 +205,10 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         }
     }
     for (auto const& l : lights) {
-        gi::LightDesc light = *l;
+        gi::LightDesc light = l->desc;
         if (light.kind == "dome" && !domeLightCameraVisibility) light.visibleToCamera = false;
+        for (GfMatrix4d const& m : HdGiTransformSteps(l->transformTimes, l->transformSamples, shutter[0], shutter[1]))
+            light.motionTransforms.push_back(HdGiToMat4(m));
         scene->addLight(light);
     }
     scene->commit();

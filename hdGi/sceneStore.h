@@ -55,6 +55,15 @@ struct HdGiGeometry {
     int primId = -1;  // Hydra's id for picking
 };
 
+// A light as Hydra synced it: its description at the frame, and its transform's motion samples
+// (SampleTransform: times relative to the frame; fewer than two: it does not move), turned into
+// the description's motion steps over the rendering camera's shutter when the scene is built.
+struct HdGiLightRecord {
+    gi::LightDesc desc;
+    std::vector<float> transformTimes;
+    std::vector<GfMatrix4d> transformSamples;
+};
+
 // Ids the film reports, mapped back to Hydra's: shape -> primId, scene instance -> index.
 struct HdGiIdMap {
     std::vector<int> shapePrimId;
@@ -64,7 +73,7 @@ struct HdGiIdMap {
 class HdGiSceneStore {
 public:
     void SetGeometry(SdfPath const& id, std::shared_ptr<const HdGiGeometry> geometry);
-    void SetLight(SdfPath const& id, std::shared_ptr<const gi::LightDesc> light);
+    void SetLight(SdfPath const& id, std::shared_ptr<const HdGiLightRecord> light);
     // `readerVarnames`: the primvars the material's textures read (UsdPrimvarReader_float2's
     // varname). True when they changed: meshes then pick their texture coordinates again.
     bool SetMaterial(SdfPath const& id, std::shared_ptr<const gi::MaterialDesc> material,
@@ -90,7 +99,7 @@ private:
     mutable std::mutex _mutex;
     mutable std::set<std::string> _reported;
     std::map<SdfPath, std::shared_ptr<const HdGiGeometry>> _geometry;
-    std::map<SdfPath, std::shared_ptr<const gi::LightDesc>> _lights;
+    std::map<SdfPath, std::shared_ptr<const HdGiLightRecord>> _lights;
     std::map<SdfPath, std::shared_ptr<const gi::MaterialDesc>> _materials;
     std::map<SdfPath, std::vector<std::string>> _readerVarnames;
     // Textures outlive the scene rebuilt on every edit: an unchanged file is read once.
@@ -100,5 +109,10 @@ private:
 gi::Mat4 HdGiToMat4(GfMatrix4d const& m);
 // Matrices between motion samples, entry by entry (as Embree interpolates instance transforms).
 inline GfMatrix4d HdGiLerp(GfMatrix4d const& a, GfMatrix4d const& b, float f) { return a * double(1 - f) + b * double(f); }
+// A transform's motion samples (times relative to the frame) at the renderer's even steps over
+// the shutter [open, close] (gi::shutterStepTimes: the first at open, the last at close); empty
+// when fewer than two samples or the shutter does not open.
+std::vector<GfMatrix4d> HdGiTransformSteps(std::vector<float> const& times, std::vector<GfMatrix4d> const& samples,
+                                           float open, float close);
 
 PXR_NAMESPACE_CLOSE_SCOPE

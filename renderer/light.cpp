@@ -1,6 +1,7 @@
 #include "light.h"
 
 #include "material.h"
+#include "moving_light.h"
 
 namespace gi {
 
@@ -12,6 +13,13 @@ Color baseRadiance(const LightDesc& d) { return d.color * (d.intensity * std::ex
 float areaToSolidAngle(float areaPdf, float distance, float cosAtLight) {
     float c = std::fabs(cosAtLight);
     return c > 1e-8f ? areaPdf * distance * distance / c : 0.0f;
+}
+
+// A unit direction between unit directions a and b (a moving light's normal between two steps);
+// a where they are opposite (no direction between).
+Vec3 directionBetween(const Vec3& a, const Vec3& b, float f) {
+    Vec3 v = lerp(a, b, f);
+    return lengthSquared(v) > 1e-12f ? normalize(v) : a;
 }
 
 // Shared machinery of the finite area emitters: uniform-area sampling and photon emission.
@@ -39,7 +47,7 @@ public:
         return b->phi > 0;
     }
 
-    LightSample sample(const Vec3& ref, Vec2 u) const override {
+    LightSample sample(const Vec3& ref, Vec2 u, float time) const override {
         SurfacePoint s = samplePoint(u);
         Vec3 d = s.p - ref;
         float dist = length(d);
@@ -86,15 +94,19 @@ public:
         center_ = p0 + (e1 + e2) * 0.5f;
         diagonalSquared_ = lengthSquared(e1 + e2);
     }
+    static RectLight between(const RectLight& a, const RectLight& b, float f) {
+        return RectLight(lerp(a.p0_, b.p0_, f), lerp(a.e1_, b.e1_, f), lerp(a.e2_, b.e2_, f),
+                         directionBetween(a.n_, b.n_, f), lerp(a.L_, b.L_, f));
+    }
     // Directions uniform over the solid angle the rect subtends (sampling.h): a point beside a
     // large rect light (a wall next to a window) gets none of the 1/d^2 spikes of area sampling.
     // Far rects (below), tiny solid angles (float trouble), near-hemispheres and sheared rects
     // sample by area, as pbrt-v4 does for the last three; pdf() decides the same way.
-    LightSample sample(const Vec3& ref, Vec2 u) const override {
+    LightSample sample(const Vec3& ref, Vec2 u, float time) const override {
         if (!(dot(ref - p0_, n_) > 0)) return {};  // behind the one-sided light
-        if (!near(ref)) return AreaLight::sample(ref, u);
+        if (!near(ref)) return AreaLight::sample(ref, u, time);
         SphericalRectangle rect(ref, p0_, e1_, e2_);
-        if (!sampledBySolidAngle(rect)) return AreaLight::sample(ref, u);
+        if (!sampledBySolidAngle(rect)) return AreaLight::sample(ref, u, time);
         Vec3 d = rect.sample(u) - ref;
         float dist = length(d);
         LightSample ls;
@@ -111,7 +123,7 @@ public:
         return n_;
     }
     float area() const override { return area_; }
-    float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
+    float pdf(const Vec3& ref, const Vec3& wi, float t, float time) const override {
         if (!(dot(ref - p0_, n_) > 0)) return 0;
         if (near(ref)) {
             SphericalRectangle rect(ref, p0_, e1_, e2_);
@@ -119,7 +131,7 @@ public:
         }
         return areaToSolidAngle(1 / area_, t, dot(-wi, n_));
     }
-    Color radiance(const Vec3& wi) const override { return dot(-wi, n_) > 0 ? L_ : Color(0); }
+    Color radiance(const Vec3& wi, float time) const override { return dot(-wi, n_) > 0 ? L_ : Color(0); }
     float intersect(const Ray& r) const override {
         Vec3 nn = cross(e1_, e2_);
         float denom = dot(r.d, nn);
@@ -161,6 +173,10 @@ private:
 class DiskLight : public AreaLight {
 public:
     DiskLight(const Vec3& c, const Vec3& n, float r, Color L) : c_(c), frame_(n), r_(r) { L_ = L; }
+    static DiskLight between(const DiskLight& a, const DiskLight& b, float f) {
+        return DiskLight(lerp(a.c_, b.c_, f), directionBetween(a.frame_.n, b.frame_.n, f), a.r_ * (1 - f) + b.r_ * f,
+                         lerp(a.L_, b.L_, f));
+    }
     Vec3 normalCone(float* cosThetaO) const override {
         *cosThetaO = 1;
         return frame_.n;
@@ -170,10 +186,10 @@ public:
         return {c_ + frame_.s * (d.x * r_) + frame_.t * (d.y * r_), frame_.n};
     }
     float area() const override { return kPi * r_ * r_; }
-    float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
+    float pdf(const Vec3& ref, const Vec3& wi, float t, float time) const override {
         return areaToSolidAngle(1 / area(), t, dot(-wi, frame_.n));
     }
-    Color radiance(const Vec3& wi) const override { return dot(-wi, frame_.n) > 0 ? L_ : Color(0); }
+    Color radiance(const Vec3& wi, float time) const override { return dot(-wi, frame_.n) > 0 ? L_ : Color(0); }
     float intersect(const Ray& r) const override {
         float denom = dot(r.d, frame_.n);
         if (std::fabs(denom) < 1e-20f) return kInf;
@@ -209,15 +225,18 @@ float intersectSphere(const Ray& r, const Vec3& c, float radius) {
 class SphereLight : public AreaLight {
 public:
     SphereLight(const Vec3& c, float r, Color L) : c_(c), r_(r) { L_ = L; }
+    static SphereLight between(const SphereLight& a, const SphereLight& b, float f) {
+        return SphereLight(lerp(a.c_, b.c_, f), a.r_ * (1 - f) + b.r_ * f, lerp(a.L_, b.L_, f));
+    }
     SurfacePoint samplePoint(Vec2 u) const override {
         Vec3 n = sampleUniformSphere(u);
         return {c_ + n * r_, n};
     }
     float area() const override { return 4 * kPi * r_ * r_; }
     // Samples the cone the sphere subtends (far less noise than area sampling).
-    LightSample sample(const Vec3& ref, Vec2 u) const override {
+    LightSample sample(const Vec3& ref, Vec2 u, float time) const override {
         float d2 = lengthSquared(ref - c_);
-        if (d2 <= r_ * r_ * 1.0001f) return AreaLight::sample(ref, u);
+        if (d2 <= r_ * r_ * 1.0001f) return AreaLight::sample(ref, u, time);
         float sin2 = r_ * r_ / d2, cosMax = safeSqrt(1 - sin2);
         Frame f(normalize(c_ - ref));
         LightSample ls;
@@ -230,7 +249,7 @@ public:
         ls.Li = ls.pdf > 0 ? L_ : Color(0.0f);
         return ls;
     }
-    float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
+    float pdf(const Vec3& ref, const Vec3& wi, float t, float time) const override {
         float d2 = lengthSquared(ref - c_);
         if (d2 <= r_ * r_ * 1.0001f) {
             Vec3 p = ref + wi * t;
@@ -238,7 +257,7 @@ public:
         }
         return uniformConePdfFromSin2(r_ * r_ / d2);
     }
-    Color radiance(const Vec3&) const override { return L_; }
+    Color radiance(const Vec3& wi, float time) const override { return L_; }
     float intersect(const Ray& r) const override { return intersectSphere(r, c_, r_); }
     bool shapeBounds(Vec3* lo, Vec3* hi) const override {
         *lo = c_ - Vec3(r_);
@@ -257,18 +276,24 @@ public:
         : c_(c), frame_(normalize(axis)), h_(halfLength), r_(r) {
         L_ = L;
     }
+    static CylinderLight between(const CylinderLight& a, const CylinderLight& b, float f) {
+        Vec3 axis = lerp(a.frame_.n * a.h_, b.frame_.n * b.h_, f);  // half the cylinder, along its axis
+        float h = length(axis);
+        if (!(h > 0)) return a;  // turned end over end: no axis between
+        return CylinderLight(lerp(a.c_, b.c_, f), axis, h, a.r_ * (1 - f) + b.r_ * f, lerp(a.L_, b.L_, f));
+    }
     SurfacePoint samplePoint(Vec2 u) const override {
         float phi = 2 * kPi * u.y;
         Vec3 n = frame_.s * std::cos(phi) + frame_.t * std::sin(phi);
         return {c_ + frame_.n * ((2 * u.x - 1) * h_) + n * r_, n};
     }
     float area() const override { return 2 * kPi * r_ * 2 * h_; }
-    float pdf(const Vec3& ref, const Vec3& wi, float t) const override {
+    float pdf(const Vec3& ref, const Vec3& wi, float t, float time) const override {
         Vec3 p = ref + wi * t - c_;
         Vec3 radial = p - frame_.n * dot(p, frame_.n);
         return areaToSolidAngle(1 / area(), t, dot(-wi, normalize(radial)));
     }
-    Color radiance(const Vec3&) const override { return L_; }
+    Color radiance(const Vec3& wi, float time) const override { return L_; }
     float intersect(const Ray& r) const override {
         Vec3 o = frame_.toLocal(r.o - c_), d = frame_.toLocal(r.d);  // axis = local z
         float a = d.x * d.x + d.y * d.y, b = o.x * d.x + o.y * d.y, cc = o.x * o.x + o.y * o.y - r_ * r_;
@@ -301,7 +326,7 @@ public:
         if (!delta_) L_ = E_ / (kPi * (1 - cosMax_ * cosMax_));  // cone integral of cos is pi sin^2
     }
     bool isInfinite() const override { return true; }
-    LightSample sample(const Vec3&, Vec2 u) const override {
+    LightSample sample(const Vec3& ref, Vec2 u, float time) const override {
         LightSample ls;
         ls.distance = kInf;
         if (delta_) {
@@ -316,10 +341,10 @@ public:
         ls.Li = L_;
         return ls;
     }
-    float pdf(const Vec3&, const Vec3& wi, float) const override {
+    float pdf(const Vec3& ref, const Vec3& wi, float t, float time) const override {
         return !delta_ && dot(wi, frame_.n) >= cosMax_ ? uniformConePdf(cosMax_) : 0;
     }
-    Color radiance(const Vec3& wi) const override {
+    Color radiance(const Vec3& wi, float time) const override {
         return !delta_ && dot(wi, frame_.n) >= cosMax_ ? L_ : Color(0);
     }
     Color power(const SceneBounds& b) const override {
@@ -379,11 +404,11 @@ public:
     // Its photons start on a disc facing their own direction: a place on that disc is a
     // different place in the scene for every direction, nothing a guide over uPos could learn.
     bool emitsFromFixedPositions() const override { return false; }
-    LightSample sample(const Vec3& ref, Vec2 u) const override {
+    LightSample sample(const Vec3& ref, Vec2 u, float time) const override {
         LightSample ls;
         ls.distance = kInf;
         if (portals_ && portals_->guides(ref)) {
-            if (portals_->sampleDirection(ref, u, &ls.wi, &ls.pdf)) ls.Li = radiance(ls.wi);
+            if (portals_->sampleDirection(ref, u, &ls.wi, &ls.pdf)) ls.Li = radiance(ls.wi, time);
             else ls.pdf = 0;
             return ls;
         }
@@ -406,7 +431,7 @@ public:
         ls.Li = lookup(s, t);
         return ls;
     }
-    float pdf(const Vec3& ref, const Vec3& wi, float) const override {
+    float pdf(const Vec3& ref, const Vec3& wi, float t, float time) const override {
         if (portals_ && portals_->guides(ref)) return portals_->pdf(ref, wi);
         return directionPdf(wi);
     }
@@ -420,7 +445,7 @@ public:
         if (sinTheta <= 1e-6f) return 0;
         return rows_.pmf(row) * cols_[row].pmf(col) * image_->width() * image_->height() / (2 * kPi * kPi * sinTheta);
     }
-    Color radiance(const Vec3& wi) const override {
+    Color radiance(const Vec3& wi, float time) const override {
         if (!image_) return scale_;
         float s, t;
         toST(wi, s, t);
@@ -442,10 +467,10 @@ public:
             if (i < 0 || !(pdfArea > 0)) return e;
             Vec3 travel = portals_->portals()[size_t(i)].travel;
             e.ray.d = Frame(travel).toWorld(sampleCosineHemisphere(uDir));
-            e.power = radiance(-e.ray.d) * (kPi / pdfArea);
+            e.power = radiance(-e.ray.d, 0) * (kPi / pdfArea);
             return e;
         }
-        LightSample ls = sample(b.center, uDir);
+        LightSample ls = sample(b.center, uDir, 0);
         Frame f(ls.wi);
         Vec2 d = sampleConcentricDisk(uPos);
         PhotonEmission e;
@@ -533,7 +558,7 @@ public:
         Vec2 b = sampleUniformTriangle(u);
         return {p_[0] * b.x + p_[1] * b.y + p_[2] * (1 - b.x - b.y), n_};
     }
-    LightSample sample(const Vec3& ref, Vec2 u) const override {
+    LightSample sample(const Vec3& ref, Vec2 u, float time) const override {
         Vec2 b = sampleUniformTriangle(u);
         Vec3 p = p_[0] * b.x + p_[1] * b.y + p_[2] * (1 - b.x - b.y);
         Vec3 d = p - ref;
@@ -560,10 +585,10 @@ public:
         *cosThetaO = 1;
         return n_;
     }
-    float pdf(const Vec3&, const Vec3& wi, float t) const override {
+    float pdf(const Vec3& ref, const Vec3& wi, float t, float time) const override {
         return areaToSolidAngle(1 / area_, t, dot(-wi, n_));
     }
-    Color radiance(const Vec3&) const override { return L_; }  // hits use the material directly
+    Color radiance(const Vec3& wi, float time) const override { return L_; }  // hits use the material directly
 
 private:
     Vec3 p_[3], n_;
@@ -577,29 +602,14 @@ bool finite(const LightDesc& d) {
     float v[] = {d.color.x, d.color.y, d.color.z, d.intensity, d.exposure, d.width, d.height, d.radius, d.length, d.angle};
     for (float x : v)
         if (!std::isfinite(x)) return false;
+    for (const Mat4& m : d.motionTransforms)
+        if (!m.isFinite()) return false;
     return d.transform.isFinite();
 }
 
-}  // namespace
-
-std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
-    if (!finite(d)) {
-        warning = "light " + d.name + ": NaN or Inf in its parameters or transform; ignored";
-        return nullptr;
-    }
-    Color L = baseRadiance(d);
-    if (!isFinite(L)) {
-        warning = "light " + d.name + ": color x intensity x 2^exposure overflows a float; ignored";
-        return nullptr;
-    }
-    if (!(maxComponent(L) > 0)) {
-        warning = "light " + d.name + ": zero or negative intensity; ignored";
-        return nullptr;
-    }
-    if (L.x < 0 || L.y < 0 || L.z < 0) warning = "light " + d.name + ": negative color components set to 0";
-    L = vmax(L, Color(0.0f));
-    const Mat4& m = d.transform;
-    std::unique_ptr<Light> light;
+// The light of d's kind placed by `m`, of radiance L (before `normalize` divides it by the area);
+// nullptr and a warning when it cannot emit.
+std::unique_ptr<Light> placedLight(const LightDesc& d, const Mat4& m, Color L, std::string& warning) {
     auto scaled = [&](float area) -> bool {
         if (!(area > 0) || !std::isfinite(area)) {
             warning = "light " + d.name + ": zero area; ignored";
@@ -617,23 +627,27 @@ std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
         Vec3 p0 = m.point(Vec3(-d.width / 2, -d.height / 2, 0));
         Vec3 e1 = m.vector(Vec3(d.width, 0, 0)), e2 = m.vector(Vec3(0, d.height, 0));
         if (!scaled(length(cross(e1, e2)))) return nullptr;
-        light = std::make_unique<RectLight>(p0, e1, e2, normalize(m.normal(Vec3(0, 0, -1))), L);
-    } else if (d.kind == "disk") {
+        return std::make_unique<RectLight>(p0, e1, e2, normalize(m.normal(Vec3(0, 0, -1))), L);
+    }
+    if (d.kind == "disk") {
         float r = d.radius * std::sqrt(length(m.vector(Vec3(1, 0, 0))) * length(m.vector(Vec3(0, 1, 0))));
         if (!scaled(kPi * r * r)) return nullptr;
-        light = std::make_unique<DiskLight>(m.point(Vec3(0.0f)), normalize(m.normal(Vec3(0, 0, -1))), r, L);
-    } else if (d.kind == "sphere") {
+        return std::make_unique<DiskLight>(m.point(Vec3(0.0f)), normalize(m.normal(Vec3(0, 0, -1))), r, L);
+    }
+    if (d.kind == "sphere") {
         float s = std::cbrt(std::fabs(float(m.det3())));
         float r = d.radius * s;
         if (!scaled(4 * kPi * r * r)) return nullptr;
-        light = std::make_unique<SphereLight>(m.point(Vec3(0.0f)), r, L);
-    } else if (d.kind == "cylinder") {
+        return std::make_unique<SphereLight>(m.point(Vec3(0.0f)), r, L);
+    }
+    if (d.kind == "cylinder") {
         Vec3 axis = m.vector(Vec3(d.length / 2, 0, 0));
         float r = d.radius * std::sqrt(length(m.vector(Vec3(0, 1, 0))) * length(m.vector(Vec3(0, 0, 1))));
         float h = length(axis);
         if (!scaled(2 * kPi * r * 2 * h)) return nullptr;
-        light = std::make_unique<CylinderLight>(m.point(Vec3(0.0f)), axis, h, r, L);
-    } else if (d.kind == "distant") {
+        return std::make_unique<CylinderLight>(m.point(Vec3(0.0f)), axis, h, r, L);
+    }
+    if (d.kind == "distant") {
         float halfAngle = std::clamp(d.angle, 0.0f, 180.0f) * 0.5f * kPi / 180.0f;
         // UsdLux: the intensity is the radiance of the light's disc (the schema's default of
         // 50000 at 0.53 degrees approximates the sun); `normalize` makes it the irradiance at
@@ -641,8 +655,9 @@ std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
         Color irradiance = L;
         float s = std::sin(std::min(halfAngle, 0.5f * kPi));
         if (!d.normalize && halfAngle >= 1e-5f) irradiance = L * (kPi * s * s);
-        light = std::make_unique<DistantLight>(normalize(m.vector(Vec3(0, 0, 1))), halfAngle, irradiance);
-    } else if (d.kind == "dome") {
+        return std::make_unique<DistantLight>(normalize(m.vector(Vec3(0, 0, 1))), halfAngle, irradiance);
+    }
+    if (d.kind == "dome") {
         std::shared_ptr<Image> image;
         if (!d.textureFile.empty()) {
             std::string error;
@@ -651,11 +666,53 @@ std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
         }
         auto dome = std::make_unique<DomeLight>(m, L, image);
         if (!image) dome->setConstantAverage();
-        light = std::move(dome);
-    } else {
-        warning = "light " + d.name + ": unsupported light kind '" + d.kind + "'; ignored";
+        return dome;
+    }
+    warning = "light " + d.name + ": unsupported light kind '" + d.kind + "'; ignored";
+    return nullptr;
+}
+
+// The light of d's kind at each of its motion steps, moving between them (moving_light.h).
+template <typename Kind>
+std::unique_ptr<Light> movingLight(const LightDesc& d, Color L, std::string& warning) {
+    std::vector<Kind> steps;
+    for (const Mat4& m : d.motionTransforms) {
+        std::unique_ptr<Light> step = placedLight(d, m, L, warning);
+        if (!step) return nullptr;
+        steps.push_back(static_cast<const Kind&>(*step));
+    }
+    return std::make_unique<MovingLight<Kind>>(std::move(steps));
+}
+
+}  // namespace
+
+bool lightKindMoves(const std::string& kind) {
+    return kind == "rect" || kind == "disk" || kind == "sphere" || kind == "cylinder";
+}
+
+std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
+    if (!finite(d)) {
+        warning = "light " + d.name + ": NaN or Inf in its parameters or transform; ignored";
         return nullptr;
     }
+    Color L = baseRadiance(d);
+    if (!isFinite(L)) {
+        warning = "light " + d.name + ": color x intensity x 2^exposure overflows a float; ignored";
+        return nullptr;
+    }
+    if (!(maxComponent(L) > 0)) {
+        warning = "light " + d.name + ": zero or negative intensity; ignored";
+        return nullptr;
+    }
+    if (L.x < 0 || L.y < 0 || L.z < 0) warning = "light " + d.name + ": negative color components set to 0";
+    L = vmax(L, Color(0.0f));
+    std::unique_ptr<Light> light;
+    if (d.motionTransforms.size() < 2 || !lightKindMoves(d.kind)) light = placedLight(d, d.transform, L, warning);
+    else if (d.kind == "rect") light = movingLight<RectLight>(d, L, warning);
+    else if (d.kind == "disk") light = movingLight<DiskLight>(d, L, warning);
+    else if (d.kind == "sphere") light = movingLight<SphereLight>(d, L, warning);
+    else light = movingLight<CylinderLight>(d, L, warning);
+    if (!light) return nullptr;
     light->name = d.name;
     light->visibleToCamera = d.visibleToCamera;
     return light;

@@ -23,9 +23,18 @@ struct LightDesc {
     bool normalize = false;
     float width = 1, height = 1, radius = 0.5f, length = 1, angle = 0.53f;
     std::string textureFile;
-    Mat4 transform;
+    Mat4 transform;  // at the time rendered (the frame)
+    // The transform over the shutter at evenly spaced steps (motion.h: the first at shutter open,
+    // the last at close) when it moves; empty: the light stands at `transform`. Only the kinds
+    // lightKindMoves() names are blurred; the Scene warns about the others and places them by
+    // `transform`.
+    std::vector<Mat4> motionTransforms;
     bool visibleToCamera = true;
 };
+
+// Whether a light of this kind moves with its motionTransforms (the area lights: rect, disk,
+// sphere, cylinder); distant and dome lights shine as at the frame.
+bool lightKindMoves(const std::string& kind);
 
 struct SceneBounds {
     Vec3 center{0.0f};
@@ -48,19 +57,25 @@ struct PhotonEmission {
 class Light {
 public:
     virtual ~Light() = default;
-    virtual LightSample sample(const Vec3& ref, Vec2 u) const = 0;
+    // `time` (sample, pdf, radiance; a ray's Ray::time for intersect): the instant within the
+    // shutter (motion.h) the light is seen at; only a moving light's answers depend on it. A path
+    // keeps its camera ray's time, so its light samples see the light where its rays would hit it.
+    virtual LightSample sample(const Vec3& ref, Vec2 u, float time) const = 0;
     // Solid-angle pdf that sample() would produce wi from ref, reaching the light at distance t.
-    virtual float pdf(const Vec3& ref, const Vec3& wi, float t) const = 0;
+    virtual float pdf(const Vec3& ref, const Vec3& wi, float t, float time) const = 0;
     // Radiance leaving the light towards -wi at a ray-light intersection (or escaping, for infinite lights).
-    virtual Color radiance(const Vec3& wi) const = 0;
+    virtual Color radiance(const Vec3& wi, float time) const = 0;
     // Analytic ray intersection for area lights (they are not in the surface BVH); returns t or inf.
     virtual float intersect(const Ray&) const { return kInf; }
-    // World-space box around an analytic shape (what intersect() can hit); false for lights
-    // without one (infinite lights, emissive triangles, which the surface BVH holds).
+    // World-space box around an analytic shape (what intersect() can hit at any time); false for
+    // lights without one (infinite lights, emissive triangles, which the surface BVH holds).
     virtual bool shapeBounds(Vec3* lo, Vec3* hi) const { return false; }
-    // Where and how the light emits, for light selection (light_sampler.h); false for infinite lights.
+    // Where and how the light emits (over the whole shutter), for light selection
+    // (light_sampler.h); false for infinite lights.
     virtual bool emissionBounds(LightBounds*) const { return false; }
     virtual Color power(const SceneBounds&) const = 0;
+    // A photon leaving the light; a moving light emits from where it is at shutter open, where
+    // photon rays (time 0) find the rest of the scene.
     virtual PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&) const = 0;
     virtual bool isInfinite() const { return false; }
     // Whether emit()'s uPos names a fixed place in the scene (a point on the light, or on the

@@ -10,16 +10,9 @@
 #include "auto_select.h"
 #include "film.h"
 #include "integrator.h"
+#include "pixel_window.h"
 
 namespace gi {
-
-// Pixels [x0, x1) x [y0, y1) of the image, row 0 at the top. Empty (the default): the whole image.
-struct PixelWindow {
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-    bool empty() const { return x1 <= x0 || y1 <= y0; }
-    bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
-    long long area() const { return empty() ? 0 : (long long)(x1 - x0) * (y1 - y0); }
-};
 
 struct RenderSettings {
     int width = 512, height = 512;

@@ -466,10 +466,18 @@ void Scene::buildLights() {
         if (!hasDome) warn("portal " + d.name + ": no dome light to guide; ignored");
         else if (makePortal(*this, d, portal)) portals.push_back(portal);
     }
-    for (const LightDesc& d : lightDescs_) {
-        if (d.kind == "portal") continue;
+    for (const LightDesc& described : lightDescs_) {
+        if (described.kind == "portal") continue;
+        LightDesc d = described;
+        d.motionTransforms = transformMotion("light " + d.name, MotionSteps{{}, d.motionTransforms});
+        if (!d.motionTransforms.empty() && !lightKindMoves(d.kind)) {
+            warn("light " + d.name + ": a " + d.kind + " light's motion during the shutter is not blurred; it shines "
+                 "as at the frame");
+            d.motionTransforms.clear();
+        }
         std::string warning;
         auto light = createLight(d, warning);
+        if (light && !d.motionTransforms.empty()) stats_.movingLights++;
         if (!warning.empty()) warn(warning);
         if (light) lights_.push_back(std::move(light));
     }
@@ -662,7 +670,7 @@ void Scene::intersectLightPrimitive(const RTCIntersectFunctionNArguments* args) 
     if (reinterpret_cast<const LightIntersectContext*>(args->context)->cameraRay && !light.visibleToCamera) return;
     RTCRayHit* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
     Ray ray{{rh->ray.org_x, rh->ray.org_y, rh->ray.org_z}, {rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z},
-            rh->ray.tnear, rh->ray.tfar};
+            rh->ray.tnear, rh->ray.tfar, rh->ray.time};
     float t = light.intersect(ray);
     if (t < rh->ray.tfar) {
         rh->ray.tfar = t;
@@ -677,7 +685,7 @@ void Scene::intersectAnalyticLights(const Ray& ray, bool cameraRay, Intersection
         rtcInitIntersectContext(&context.embree);
         context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
         context.cameraRay = cameraRay;
-        RTCRayHit rh = toEmbreeRayHit(ray.o, ray.d, ray.tMin, result.t);
+        RTCRayHit rh = toEmbreeRayHit(ray.o, ray.d, ray.tMin, result.t, ray.time);  // moving lights: where at its time
         rtcIntersect1(lightBvh_, &context.embree, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
         result.kind = Intersection::Kind::Light;

@@ -125,6 +125,7 @@ public:
         size_t textureBytes = 0, textures = 0;
         size_t portals = 0;  // portal lights in use (portal.h)
         size_t movingShapes = 0, movingInstances = 0;  // built as Embree motion geometry
+        size_t movingLights = 0;  // area lights moving during the shutter (moving_light.h)
         size_t texturesRead = 0;  // of `textures`, read from disk (the rest came from a shared ImageCache)
         double buildSeconds = 0;
         // BVH work of commit(): triangles and spheres built, and taken from the previous scene.

@@ -63,7 +63,10 @@ class LightDesc:
     length: float                  # cylinder (along local X)
     angle: float                   # distant: angular diameter in degrees
     texture_file: str              # dome lat-long map or rect light texture ('' = none)
-    transform: npt.NDArray[np.float64]   # 4x4, USD convention
+    transform: npt.NDArray[np.float64]   # 4x4, USD convention, at the frame
+    # (steps, 4, 4) over the shutter (even steps, open to close) when it moves, else None; area
+    # lights (rect, disk, sphere, cylinder) are blurred, the others warn and stay at `transform`.
+    motion_transforms: Optional[npt.NDArray[np.float64]]
     visible_to_camera: bool
     def __init__(self) -> None: ...
 
@@ -123,7 +126,8 @@ class Scene:
         """Every warning issued while building and committing, each naming its prim."""
     def stats(self) -> dict: ...   # triangles, spheres, instances, prototypes, lights, emissive_triangles,
                                    # textures, texture_bytes, build_seconds, committed, specular_surfaces,
-                                   # moving_shapes, moving_instances (Embree motion geometry)
+                                   # moving_shapes, moving_instances (Embree motion geometry),
+                                   # moving_lights (area lights moving during the shutter)
 
 class RenderSettings:
     width: int
@@ -203,6 +207,12 @@ def write_png(path: str, color: npt.NDArray[np.float32], display: str = "", view
               exposure: float = 0.0, config: str = "") -> None:
     """Display-referred 8-bit PNG through an OpenColorIO display/view (config: explicit, else
     $OCIO, else the config shipped in gi/ocio/). Empty display/view = the config's defaults."""
+
+def data_window_pixels(ndc: tuple[float, float, float, float], width: int, height: int
+                       ) -> tuple[tuple[int, int, int, int], str]:
+    """A dataWindowNDC (xmin, ymin, xmax, ymax; y up) as the pixels (x0, y0, x1, y1), row 0 at the
+    top, whose centres it holds, clipped to the image; and '' or a warning sentence
+    (renderer/pixel_window.h, hdGi's rule too)."""
 
 def read_image(path: str) -> tuple[npt.NDArray[np.float32], dict]:
     """(H, W, C) float pixels of the data window and the file's metadata, through OpenImageIO; the

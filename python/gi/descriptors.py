@@ -79,6 +79,7 @@ class _LightDesc:
     angle: float = 0.53
     texture_file: str = ""
     transform: np.ndarray = field(default_factory=_identity)
+    motion_transforms: object = None   # (steps, 4, 4) over the shutter when the light moves
     visible_to_camera: bool = True
 
 

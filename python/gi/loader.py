@@ -375,7 +375,15 @@ class StageLoader(motion.MotionSampling):
     # -- lights ----------------------------------------------------------------------------------
     def add_light(self, prim, world):
         desc = light_desc(prim, world, self.time, self.warn)
-        if desc is not None and self.scene.add_light(desc) >= 0:
+        if desc is None:
+            return
+        # Its world transform at the motion steps over the shutter, as a moving mesh's (the
+        # renderer blurs area lights and warns about the others).
+        steps = self.transform_steps(prim, self.motion_times(prim))
+        if steps is not None:
+            desc.motion_transforms = np.ascontiguousarray(steps)
+            self.note_motion(prim, "transform")
+        if self.scene.add_light(desc) >= 0:
             self.counts["lights"] += 1
             self.light_kinds[desc.kind] += 1
 

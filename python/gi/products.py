@@ -116,18 +116,14 @@ def read_products(stage, settings, time, camera_override, warn):
 
 
 def pixel_window(product, warn):
-    """dataWindowNDC as pixels (x0, y0, x1, y1), row 0 at the top: NDC y runs up, so ymax is the
-    top row. A window reaching outside the image is clipped to it (with a warning)."""
+    """dataWindowNDC as pixels (x0, y0, x1, y1), row 0 at the top: the pixels whose centres it
+    holds, clipped to the image (renderer/pixel_window.h, hdGi's rule too). A window reaching
+    outside the image or holding no pixel warns naming the product."""
     width, height = product.resolution
-    xmin, ymin, xmax, ymax = product.data_window_ndc
-    window = (round(xmin * width), round((1 - ymax) * height), round(xmax * width), round((1 - ymin) * height))
-    clipped = (max(0, window[0]), max(0, window[1]), min(width, window[2]), min(height, window[3]))
-    if clipped[2] <= clipped[0] or clipped[3] <= clipped[1]:
-        warn(product.path, f"dataWindowNDC {product.data_window_ndc} holds no pixel; the whole image is rendered")
-        return (0, 0, width, height)
-    if clipped != window:
-        warn(product.path, f"dataWindowNDC {product.data_window_ndc} reaches outside the image; clipped to it")
-    return clipped
+    window, problem = require_core().data_window_pixels(product.data_window_ndc, width, height)
+    if problem:
+        warn(product.path, problem)
+    return window
 
 
 def product_planes(product, result):

@@ -78,6 +78,16 @@ MotionSteps toMotion(const std::optional<StepPoints>& points, const std::optiona
     return motion;
 }
 
+// (steps, 4, 4) transforms as numpy, or None when there are none (a descriptor's motion_transforms).
+nb::object stepMatrices(const std::vector<Mat4>& steps) {
+    if (steps.empty()) return nb::none();
+    auto* data = new std::vector<double>;
+    for (const Mat4& m : steps) data->insert(data->end(), &m.m[0][0], &m.m[0][0] + 16);
+    nb::capsule owner(data, [](void* p) noexcept { delete static_cast<std::vector<double>*>(p); });
+    size_t shape[3] = {steps.size(), 4, 4};
+    return nb::cast(nb::ndarray<nb::numpy, double>(data->data(), 3, shape, owner), nb::rv_policy::move);
+}
+
 void bindDescriptors(nb::module_& m) {
     nb::class_<TextureDesc>(m, "TextureDesc")
         .def(nb::init<>())
@@ -169,7 +179,11 @@ void bindDescriptors(nb::module_& m) {
         .def_rw("texture_file", &LightDesc::textureFile)
         .def_rw("visible_to_camera", &LightDesc::visibleToCamera)
         .def_prop_rw("transform", [](const LightDesc& l) { return nb::cast(fromMat4(l.transform), nb::rv_policy::move); },
-                     [](LightDesc& l, Matrix v) { l.transform = toMat4(v); });
+                     [](LightDesc& l, Matrix v) { l.transform = toMat4(v); })
+        .def_prop_rw(
+            "motion_transforms", [](const LightDesc& l) { return stepMatrices(l.motionTransforms); },
+            [](LightDesc& l, std::optional<StepMatrices> steps) { l.motionTransforms = toMotion(std::nullopt, steps).transforms; },
+            nb::arg("value").none());
 
     nb::class_<CameraDesc>(m, "CameraDesc")
         .def(nb::init<>())
@@ -185,15 +199,7 @@ void bindDescriptors(nb::module_& m) {
         .def_rw("shutter_open", &CameraDesc::shutterOpen)
         .def_rw("shutter_close", &CameraDesc::shutterClose)
         .def_prop_rw(
-            "motion_transforms",
-            [](const CameraDesc& c) -> nb::object {
-                if (c.motionTransforms.empty()) return nb::none();
-                auto* data = new std::vector<double>;
-                for (const Mat4& m : c.motionTransforms) data->insert(data->end(), &m.m[0][0], &m.m[0][0] + 16);
-                nb::capsule owner(data, [](void* p) noexcept { delete static_cast<std::vector<double>*>(p); });
-                size_t shape[3] = {c.motionTransforms.size(), 4, 4};
-                return nb::cast(nb::ndarray<nb::numpy, double>(data->data(), 3, shape, owner), nb::rv_policy::move);
-            },
+            "motion_transforms", [](const CameraDesc& c) { return stepMatrices(c.motionTransforms); },
             [](CameraDesc& c, std::optional<StepMatrices> steps) { c.motionTransforms = toMotion(std::nullopt, steps).transforms; },
             nb::arg("value").none())
         .def_prop_rw("clipping_range", [](const CameraDesc& c) { return Float2{c.clipNear, c.clipFar}; },
@@ -293,6 +299,7 @@ void bindScene(nb::module_& m) {
                                             {"primitives_reused", double(st.primitivesReused)},
                                             {"moving_shapes", double(st.movingShapes)},
                                             {"moving_instances", double(st.movingInstances)},
+                                            {"moving_lights", double(st.movingLights)},
                                             {"committed", s.committed() ? 1.0 : 0.0},
                                             {"specular_surfaces", s.hasSpecularSurfaces() ? 1.0 : 0.0}};
             return d;
@@ -591,6 +598,18 @@ void bindRendering(nb::module_& m) {
     m.def("frame_path", &substituteFrame, "path"_a, "frame"_a,
           "`path` with $F, $F<width> and #### replaced by `frame` (zero-padded to the width).");
     m.def("has_frame_token", &hasFrameToken, "path"_a);
+    m.def(
+        "data_window_pixels",
+        [](std::tuple<float, float, float, float> ndc, int width, int height) {
+            std::string problem;
+            auto [xmin, ymin, xmax, ymax] = ndc;
+            PixelWindow w = dataWindowPixels(xmin, ymin, xmax, ymax, width, height, &problem);
+            return std::make_tuple(std::make_tuple(w.x0, w.y0, w.x1, w.y1), problem);
+        },
+        "ndc"_a, "width"_a, "height"_a,
+        "((x0, y0, x1, y1) pixels, row 0 at the top; problem) for a dataWindowNDC (xmin, ymin, xmax, ymax): "
+        "the pixels whose centres it holds, clipped to the image (renderer/pixel_window.h); problem: '' "
+        "or a sentence for a warning.");
 
     m.def(
         "write_channels_exr",

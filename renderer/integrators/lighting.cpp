@@ -33,7 +33,7 @@ Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Vec2 uLight,
     int index = scene.lightSampler().sample(sp.si.p, uSelect, &pmf);
     if (index < 0) return Color(0.0f);  // no light can reach this point
     const Light& light = *scene.lights()[index];
-    LightSample ls = light.sample(sp.si.p, uLight);
+    LightSample ls = light.sample(sp.si.p, uLight, sp.si.time);  // where it is at the path's time
     if (!(ls.pdf > 0) || isBlack(ls.Li)) return Color(0.0f);
     Vec3 wiLocal = sp.frame.toLocal(ls.wi);
     Color f = sp.bsdf.eval(sp.woLocal, wiLocal) * absCosTheta(wiLocal);
@@ -49,9 +49,9 @@ Color emittedOnHit(const Scene& scene, const Intersection& hit, const Ray& ray, 
                    float prevPdf, bool prevDelta) {
     if (hit.kind == Intersection::Kind::Light) {
         const Light& light = *scene.lights()[hit.light];
-        Color Le = light.radiance(ray.d);
+        Color Le = light.radiance(ray.d, ray.time);
         if (prevDelta || isBlack(Le)) return Le;
-        float lightPdf = scene.lightPmf(prevPoint, hit.light) * light.pdf(prevPoint, ray.d, hit.t);
+        float lightPdf = scene.lightPmf(prevPoint, hit.light) * light.pdf(prevPoint, ray.d, hit.t, ray.time);
         return Le * powerHeuristic(prevPdf, lightPdf);
     }
     const SurfaceInteraction& si = hit.si;
@@ -60,7 +60,7 @@ Color emittedOnHit(const Scene& scene, const Intersection& hit, const Ray& ray, 
     Color Le = si.material->emission(si.uv);
     if (prevDelta || si.emissiveLight < 0) return Le;
     float lightPdf = scene.lightPmf(prevPoint, si.emissiveLight) *
-                     scene.lights()[si.emissiveLight]->pdf(prevPoint, ray.d, length(si.p - prevPoint));
+                     scene.lights()[si.emissiveLight]->pdf(prevPoint, ray.d, length(si.p - prevPoint), ray.time);
     return Le * powerHeuristic(prevPdf, lightPdf);
 }
 
@@ -69,13 +69,13 @@ Color escapedRadiance(const Scene& scene, const Ray& ray, float prevPdf, bool pr
     for (int index : scene.infiniteLights()) {
         const Light& light = *scene.lights()[index];
         if (cameraRay && !light.visibleToCamera) continue;
-        Color Le = light.radiance(ray.d);
+        Color Le = light.radiance(ray.d, ray.time);
         if (isBlack(Le)) continue;
         if (prevDelta) {
             L += Le;
             continue;
         }
-        float lightPdf = scene.lightPmf(ray.o, index) * light.pdf(ray.o, ray.d, kInf);
+        float lightPdf = scene.lightPmf(ray.o, index) * light.pdf(ray.o, ray.d, kInf, ray.time);
         L += Le * powerHeuristic(prevPdf, lightPdf);
     }
     return L;

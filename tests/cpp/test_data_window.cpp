@@ -2,6 +2,10 @@
 // what farm tiles and RenderProducts' dataWindowNDC rely on.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+#include <vector>
+
 #include "scenes.h"
 
 using namespace gi;
@@ -66,4 +70,33 @@ TEST(DataWindow, AWindowOutsideTheImageIsRefused) {
     litFloorAndBall(scene);
     EXPECT_THROW(renderWindow(scene, "box", PixelWindow{30, 0, 40, 5}, 0), std::invalid_argument);
     EXPECT_THROW(renderWindow(scene, "box", PixelWindow{-1, 0, 5, 5}, 0), std::invalid_argument);
+}
+
+// dataWindowNDC to pixels (pixel_window.h), the rule both hosts follow: a pixel is in when its
+// centre is, the low edges included and the high ones not; NDC y runs up.
+TEST(DataWindow, NdcHoldsThePixelsWhoseCentresItContains) {
+    std::string problem;
+    // Low edges on pixel centres (x 2.5 of 10 columns: column 2's; the top edge (1 - 0.8125) x 8 =
+    // 1.5: row 1's), high edges inside pixels (x 7.2, y 7.1); rounding the edges half up would
+    // start at column 3 and row 2.
+    PixelWindow w = dataWindowPixels(0.25f, 1 - 7.1f / 8, 0.72f, 0.8125f, 10, 8, &problem);
+    EXPECT_EQ(w, (PixelWindow{2, 1, 7, 7})) << w.x0 << " " << w.y0 << " " << w.x1 << " " << w.y1;
+    EXPECT_TRUE(problem.empty()) << problem;
+    EXPECT_EQ(dataWindowPixels(0, 0, 1, 1, 10, 8, &problem), (PixelWindow{0, 0, 10, 8}));
+    EXPECT_TRUE(problem.empty());
+    // The bottom-left quarter: the last rows.
+    EXPECT_EQ(dataWindowPixels(0, 0, 0.5f, 0.5f, 10, 8, &problem), (PixelWindow{0, 4, 5, 8}));
+}
+
+TEST(DataWindow, NdcOutsideTheImageIsClippedAndAnEmptyOrBrokenOneIsTheWholeImage) {
+    std::string problem;
+    EXPECT_EQ(dataWindowPixels(-0.5f, -1e30f, 0.5f, 2, 10, 8, &problem), (PixelWindow{0, 0, 5, 8}));
+    EXPECT_NE(problem.find("reaches outside the image"), std::string::npos) << problem;
+    const PixelWindow whole{0, 0, 10, 8};
+    // Narrower than a pixel between two centres; reversed; beside the image; NaN.
+    for (auto ndc : std::vector<std::array<float, 4>>{{0.11f, 0, 0.14f, 1}, {0.8f, 0, 0.2f, 1}, {1.5f, 0, 2, 1},
+                                                      {0, std::nanf(""), 1, 1}}) {
+        EXPECT_EQ(dataWindowPixels(ndc[0], ndc[1], ndc[2], ndc[3], 10, 8, &problem), whole) << ndc[0];
+        EXPECT_NE(problem.find("the whole image is rendered"), std::string::npos) << problem;
+    }
 }

@@ -126,7 +126,7 @@ TEST(LightSampler, NeverLeavesOutALightThatReachesThePoint) {
             // A light reaches p when a sample of it can arrive (p in front of a one-sided rect).
             bool reaches = false;
             for (int s = 0; s < 16 && !reaches; ++s) {
-                LightSample ls = set.lights[light]->sample(p, Vec2((s % 4 + 0.5f) / 4, (s / 4 + 0.5f) / 4));
+                LightSample ls = set.lights[light]->sample(p, Vec2((s % 4 + 0.5f) / 4, (s / 4 + 0.5f) / 4), 0);
                 reaches = ls.pdf > 0 && !isBlack(ls.Li);
             }
             if (!reaches) continue;

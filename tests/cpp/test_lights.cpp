@@ -226,13 +226,13 @@ TEST(Lights, RectLightSamplesUniformlyInSolidAngle) {
         double sumInversePdf = 0, minPdf = kInf, maxPdf = 0;
         const int n = 4096;
         for (int i = 0; i < n; ++i) {
-            LightSample ls = light->sample(ref, Vec2((i % 64 + 0.5f) / 64, (i / 64 + 0.5f) / 64));
+            LightSample ls = light->sample(ref, Vec2((i % 64 + 0.5f) / 64, (i / 64 + 0.5f) / 64), 0);
             ASSERT_GT(ls.pdf, 0) << i;
             Vec3 p = ref + ls.wi * ls.distance;
             ASSERT_NEAR(p.z, 0, 1e-4f);
             ASSERT_LE(std::fabs(p.x), 1 + 1e-4f);
             ASSERT_LE(std::fabs(p.y), 0.5f + 1e-4f);
-            ASSERT_NEAR(ls.pdf, light->pdf(ref, ls.wi, ls.distance), 1e-4f * ls.pdf);
+            ASSERT_NEAR(ls.pdf, light->pdf(ref, ls.wi, ls.distance, 0), 1e-4f * ls.pdf);
             sumInversePdf += 1 / ls.pdf;
             minPdf = std::min(minPdf, double(ls.pdf)), maxPdf = std::max(maxPdf, double(ls.pdf));
         }
@@ -262,6 +262,6 @@ TEST(Lights, RectLightSamplesUniformlyInSolidAngle) {
         }
     }
     // Behind the one-sided light: nothing.
-    EXPECT_EQ(light->sample(Vec3(0, 0, 1), Vec2(0.5f, 0.5f)).pdf, 0.0f);
-    EXPECT_EQ(light->pdf(Vec3(0, 0, 1), Vec3(0, 0, -1), 1), 0.0f);
+    EXPECT_EQ(light->sample(Vec3(0, 0, 1), Vec2(0.5f, 0.5f), 0).pdf, 0.0f);
+    EXPECT_EQ(light->pdf(Vec3(0, 0, 1), Vec3(0, 0, -1), 1, 0), 0.0f);
 }

@@ -116,14 +116,14 @@ TEST(Stiff, LightSamplesFromOnOrInsideTheLightAreFinite) {
         for (const Vec3& p : points)
             for (int i = 0; i < 32; ++i) {
                 sampler.start(i, 1, 0);
-                LightSample ls = light->sample(p, sampler.get2D());
+                LightSample ls = light->sample(p, sampler.get2D(), 0);
                 ASSERT_TRUE(std::isfinite(ls.pdf) && ls.pdf >= 0) << d.kind << " pdf " << ls.pdf;
                 ASSERT_TRUE(finiteNonNegative(ls.Li)) << d.kind;
                 if (ls.pdf > 0 && !ls.delta) {
                     ASSERT_TRUE(isFinite(ls.wi)) << d.kind;
                     EXPECT_TRUE(std::isfinite(maxComponent(ls.Li) / ls.pdf)) << d.kind << " Li/pdf overflows";
                 }
-                float pdf = light->pdf(p, ls.wi, ls.distance);
+                float pdf = light->pdf(p, ls.wi, ls.distance, 0);
                 ASSERT_TRUE(std::isfinite(pdf) && pdf >= 0) << d.kind;
             }
         auto emission = light->emit(Vec2(0.3f, 0.7f), Vec2(0.5f, 0.5f), bounds);

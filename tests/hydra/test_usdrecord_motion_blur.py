@@ -1,6 +1,6 @@
-"""usdrecord through hdGi blurs what moves during the camera's shutter (SampleTransform,
-SamplePrimvar of points, the camera's shutter) to the width `gi render` reaches: the scenes,
-measure and tolerance of tests/python/test_motion_blur.py.
+"""usdrecord through hdGi blurs what moves during the camera's shutter (SampleTransform of gprims,
+cameras and lights, SamplePrimvar of points, the camera's shutter) to the width `gi render`
+reaches: the scenes, measure and tolerance of tests/python/test_motion_blur.py.
 usdrecord hides dome lights from the camera unless told (--enableDomeLightVisibility); the
 measure needs the lit background.
 
@@ -37,7 +37,8 @@ def animated_point_instancer(path):
     return path
 
 
-@pytest.mark.parametrize("kind", ["sphere", "quad", "deforming quad", "animated point instancer", "camera"])
+@pytest.mark.parametrize("kind", ["sphere", "quad", "deforming quad", "animated point instancer", "camera",
+                                  "sphere light", "rect light"])
 def test_usdrecord_blurs_a_moving_object_to_the_analytic_width(tmp_path, kind):
     if kind == "animated point instancer":
         scene, kind = animated_point_instancer(tmp_path / "moving.usda"), "point instancer"
@@ -50,7 +51,7 @@ def test_usdrecord_blurs_a_moving_object_to_the_analytic_width(tmp_path, kind):
     image = read_rgb(tmp_path / f"moving.{FRAME:04d}.exr")
     assert image.shape[:2] == (RESOLUTION[1], RESOLUTION[0])
     expected = width(analytic_variance(kind))
-    assert abs(width(profile_variance(image)) - expected) / expected < WIDTH_TOLERANCE
+    assert abs(width(profile_variance(image, kind)) - expected) / expected < WIDTH_TOLERANCE
 
 
 def test_a_shutter_edit_resamples_the_motion(tmp_path):
