@@ -13,10 +13,12 @@ from gi.loader import load_stage
 
 ROOM = ROOT / "scenes" / "window_room" / "window_room.usda"
 
-# Two lamps inside the room (emissive quads under the ceiling, unequal so that which is which
-# matters) besides the sun and sky; the open variant deactivates the pane, so that the path
-# tracer's shadow rays reach sun and sky (behind glass they are blocked whichever light is picked).
-LAMPS = """
+# Two lamps inside the room besides the sun and sky: emissive quads under the ceiling, unequal
+# so that which is which matters, as two meshes or as two instances of one prototype (the
+# loader's instances, named by their prims, in stage order). The open variant deactivates the
+# pane, so that the path tracer's shadow rays reach sun and sky (behind glass they are blocked
+# whichever light is picked).
+LOOK = """
     def Material "LampLook"
     {
         token outputs:surface.connect = </World/LampLook/Surface.outputs:surface>
@@ -28,27 +30,43 @@ LAMPS = """
             token outputs:surface
         }
     }
-    def Mesh "LampA" (prepend apiSchemas = ["MaterialBindingAPI"])
-    {
+"""
+QUAD = """
         int[] faceVertexCounts = [4]
         int[] faceVertexIndices = [0, 1, 2, 3]
-        point3f[] points = [(-1.5, 2.95, -3.5), (-1, 2.95, -3.5), (-1, 2.95, -3), (-1.5, 2.95, -3)]
+        point3f[] points = [(-0.25, 0, -0.25), (0.25, 0, -0.25), (0.25, 0, 0.25), (-0.25, 0, 0.25)]
         rel material:binding = </World/LampLook>
-    }
-    def Mesh "LampB" (prepend apiSchemas = ["MaterialBindingAPI"])
-    {
-        int[] faceVertexCounts = [4]
-        int[] faceVertexIndices = [0, 1, 2, 3]
-        point3f[] points = [(0.5, 2.95, -2.5), (1.5, 2.95, -2.5), (1.5, 2.95, -1.5), (0.5, 2.95, -1.5)]
-        rel material:binding = </World/LampLook>
-    }
+"""
+PLACES = {"LampA": "(-1.25, 2.95, -3.25)", "LampB": "(1, 2.95, -2)"}
+SCALES = {"LampA": "(1, 1, 1)", "LampB": "(2, 1, 2)"}
+
+
+def lamp(name, instanced):
+    place = (f"double3 xformOp:translate = {PLACES[name]}\n        float3 xformOp:scale = {SCALES[name]}\n"
+             '        uniform token[] xformOpOrder = ["xformOp:translate", "xformOp:scale"]')
+    if instanced:
+        return f"""    def Xform "{name}" (instanceable = true
+        references = </LampPrototype>)
+    {{
+        {place}
+    }}
+"""
+    return f"""    def Mesh "{name}" (prepend apiSchemas = ["MaterialBindingAPI"])
+    {{{QUAD}        {place}
+    }}
 """
 
 
-def stage(tmp_path, name, children, open_window):
+def stage(tmp_path, name, children, open_window, instanced):
     """The room with the lamps, World's children in the given order (`reorder nameChildren`)."""
     pane = '    over "Pane" (active = false)\n    {\n    }\n' if open_window else ""
     order = ", ".join(f'"{child}"' for child in children)
+    prototype = f"""class Xform "LampPrototype"
+{{
+    def Mesh "Quad" (prepend apiSchemas = ["MaterialBindingAPI"])
+    {{{QUAD}    }}
+}}
+""" if instanced else ""
     path = tmp_path / f"{name}.usda"
     path.write_text(f"""#usda 1.0
 (
@@ -57,9 +75,8 @@ def stage(tmp_path, name, children, open_window):
 over "World"
 {{
     reorder nameChildren = [{order}]
-{LAMPS}
-{pane}}}
-""")
+{LOOK}{lamp("LampA", instanced)}{lamp("LampB", instanced)}{pane}}}
+{prototype}""")
     return path
 
 
@@ -69,18 +86,20 @@ def render(path, integrator):
     s.width, s.height = 48, 36
     s.spp, s.integrator, s.seed = 4, integrator, 3
     result = _core.render(loaded.scene, s)
-    return np.asarray(result.color), loaded.scene.stats()["lights"]
+    stats = loaded.scene.stats()
+    return np.asarray(result.color), stats["lights"], stats
 
 
-@pytest.mark.parametrize("integrator, open_window", [("path", True), ("photonMapIrradianceCache", False),
-                                                     ("progressivePhotonMap", False)])
-def test_the_order_of_lights_and_shapes_in_the_stage_changes_nothing(tmp_path, integrator, open_window):
+@pytest.mark.parametrize("integrator, open_window, instanced", [
+    ("path", True, False), ("photonMapIrradianceCache", False, False), ("progressivePhotonMap", False, False),
+    ("photonMapIrradianceCache", False, True)])
+def test_the_order_of_lights_and_shapes_in_the_stage_changes_nothing(tmp_path, integrator, open_window, instanced):
     # File order: Sun before Sky and LampB before LampA; the reverse of each by name.
-    forward = stage(tmp_path, "forward", ["Sun", "Sky", "LampB", "LampA", "Floor", "Walls", "Pane"], open_window)
-    backward = stage(tmp_path, "backward", ["Pane", "Walls", "Floor", "LampA", "LampB", "Sky", "Sun"], open_window)
-    a, lights_a = render(forward, integrator)
-    b, lights_b = render(backward, integrator)
+    forward = ["Sun", "Sky", "LampB", "LampA", "Floor", "Walls", "Pane"]
+    a, lights_a, stats_a = render(stage(tmp_path, "forward", forward, open_window, instanced), integrator)
+    b, lights_b, _ = render(stage(tmp_path, "backward", forward[::-1], open_window, instanced), integrator)
     assert lights_a == lights_b == 2 + 4  # sun, sky and the lamps' two triangles each
+    assert stats_a["instances"] == (2 if instanced else 0)
     assert a.mean() > 0 and np.isfinite(a).all()
     identical = (np.abs(a - b).max(axis=-1) == 0).mean()
     print(f"{integrator}: {100 * identical:.2f}% of pixels identical, mean {a.mean():.5f} / {b.mean():.5f}")
