@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <numeric>
 #include <sstream>
 
 namespace gi {
@@ -37,6 +38,19 @@ bool isSimilarity(const Mat4& m) {
     float tol = 1e-4f * std::max(la, std::max(lb, lc));
     return std::fabs(la - lb) < tol && std::fabs(la - lc) < tol && std::fabs(dot(a, b)) < tol * la &&
            std::fabs(dot(a, c)) < tol * la && std::fabs(dot(b, c)) < tol * lb;
+}
+
+// The indices 0..count-1 in order of nameOf(index), insertion order among equal names. Hosts
+// add lights and shapes in their own order (the USD loader in stage order, hdGi in Hydra's path
+// order); the scene's lights follow their names, so that every choice made by light index (light
+// selection, photon emission with its pilot and guide) is the same whichever host built the
+// scene (issue 18).
+template <typename NameOf>
+std::vector<int> orderedByName(size_t count, NameOf nameOf) {
+    std::vector<int> order(count);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return nameOf(a) < nameOf(b); });
+    return order;
 }
 
 }  // namespace
@@ -460,15 +474,18 @@ void Scene::buildLights() {
     std::vector<Portal> portals;
     bool hasDome = false;
     for (const LightDesc& d : lightDescs_) hasDome = hasDome || d.kind == "dome";
-    for (const LightDesc& d : lightDescs_) {
+    const std::vector<int> descOrder =
+        orderedByName(lightDescs_.size(), [&](int i) -> const std::string& { return lightDescs_[size_t(i)].name; });
+    for (int i : descOrder) {
+        const LightDesc& d = lightDescs_[size_t(i)];
         if (d.kind != "portal") continue;
         Portal portal;
         if (!hasDome) warn("portal " + d.name + ": no dome light to guide; ignored");
         else if (makePortal(*this, d, portal)) portals.push_back(portal);
     }
-    for (const LightDesc& described : lightDescs_) {
-        if (described.kind == "portal") continue;
-        LightDesc d = described;
+    for (int i : descOrder) {
+        if (lightDescs_[size_t(i)].kind == "portal") continue;
+        LightDesc d = lightDescs_[size_t(i)];
         d.motionTransforms = transformMotion("light " + d.name, MotionSteps{{}, d.motionTransforms});
         if (!d.motionTransforms.empty() && !lightKindMoves(d.kind)) {
             warn("light " + d.name + ": a " + d.kind + " light's motion during the shutter is not blurred; it shines "
@@ -497,27 +514,33 @@ void Scene::buildLights() {
         }
         return first;
     };
-    for (Shape& s : shapes_)
+    auto shapeName = [&](int i) -> const std::string& { return shapes_[size_t(i)].name; };
+    for (int i : orderedByName(shapes_.size(), shapeName)) {
+        Shape& s = shapes_[size_t(i)];
         if (s.prototype < 0 && !s.isSphere && materials_[s.material]->isEmissive()) {
             if (!s.stepPositions.empty())
                 warn("mesh " + s.name + ": an emissive mesh moves; it is sampled as a light where it is at shutter "
                      "open (hit where it is at each ray's time)");
             s.lightOffset = addTriangles(s, nullptr);
         }
+    }
     for (const Shape& s : shapes_)
         if (s.isSphere && materials_[s.material]->isEmissive())
             warn("sphere " + s.name + ": emissive spheres are lit only when hit, not sampled as lights");
-    for (Instance& inst : instances_) {
+    for (int i : orderedByName(instances_.size(), [&](int i) -> const std::string& { return instances_[size_t(i)].name; })) {
+        Instance& inst = instances_[size_t(i)];
         const Prototype& p = prototypes_[inst.prototype];
         if (!p.emissive) continue;
         if (!inst.stepToWorld.empty())
             warn("instance " + inst.name + ": an emissive instance moves; it is sampled as a light where it is at "
                  "shutter open (hit where it is at each ray's time)");
         inst.lightOffset = int(lights_.size());
-        for (int sid : p.shapes)
+        for (int k : orderedByName(p.shapes.size(), [&](int k) -> const std::string& { return shapeName(p.shapes[size_t(k)]); })) {
+            int sid = p.shapes[size_t(k)];
             if (!shapes_[sid].isSphere && materials_[shapes_[sid].material]->isEmissive())
                 prototypes_[inst.prototype].relativeLightOffset[sid] =
                     addTriangles(shapes_[sid], &inst.toWorld) - inst.lightOffset;
+        }
     }
     if (!portals.empty()) {
         stats_.portals = portals.size();

@@ -98,6 +98,8 @@ public:
     // Shadow test between a surface point and a light sample, offsetting the origin (at si.time).
     bool visible(const SurfaceInteraction& si, const Vec3& wi, float distance, RayStats& stats) const;
 
+    // In order of name, not of addLight (analytic lights, then emissive shapes' triangles, then
+    // emissive instances'): the same for every host's insertion order.
     const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
     // Light selection at a shading point (light_sampler.h), and the probability it picks `light` there.
     const LightSampler& lightSampler() const { return lightSampler_; }
