@@ -322,6 +322,10 @@ def resolve_preview_surface(material_path: str, network: ShaderNetwork, surface:
     texture files it names as (authored, resolved)); None after warn(material_path, message) when
     it is not a UsdPreviewSurface. Each warning names the node and input, once."""
 
+def framing_camera(center: tuple[float, float, float], size: tuple[float, float, float], z_up: bool) -> CameraDesc:
+    """The camera that frames a bounding box (its centre and size) when the stage has none:
+    usdrecord's free camera (renderer/camera_framing.h)."""
+
 def display_color_material(prim: str, display_color: Optional[tuple[float, float, float]] = None) -> MaterialDesc:
     """The material of a gprim with no usable material: UsdPreviewSurface defaults, diffuse colour
     = its displayColor when it has one."""

@@ -181,6 +181,17 @@ void bindDescriptors(nb::module_& m) {
                      [](CameraDesc& c, Float2 v) { std::tie(c.clipNear, c.clipFar) = v; })
         .def_prop_rw("transform", [](const CameraDesc& c) { return nb::cast(fromMat4(c.transform), nb::rv_policy::move); },
                      [](CameraDesc& c, Matrix v) { c.transform = toMat4(v); });
+    m.def(
+        "framing_camera",
+        [](std::tuple<double, double, double> center, std::tuple<double, double, double> size, bool zUp) {
+            auto d = [](const std::tuple<double, double, double>& t) {
+                return std::array<double, 3>{std::get<0>(t), std::get<1>(t), std::get<2>(t)};
+            };
+            return framingCamera(d(center), d(size), zUp);
+        },
+        "center"_a, "size"_a, "z_up"_a,
+        "The camera that frames a bounding box (its centre and size) when the stage has none: usdrecord's "
+        "(renderer/camera_framing.h).");
 }
 
 using Points = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
