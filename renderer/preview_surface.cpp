@@ -45,7 +45,7 @@ public:
         auto it = node.parameters.find(name);
         if (it == node.parameters.end()) return nullptr;
         if (const T* value = std::get_if<T>(&it->second)) return value;
-        warn("inputs:" + name + " of " + path + " is a " + kValueTypeNames[it->second.index()] + ", not a " +
+        warn("inputs:" + name + " of " + path + " has type " + kValueTypeNames[it->second.index()] + ", not " +
              kValueTypeNames[ShaderValue(T()).index()] + "; using the default");
         return nullptr;
     }

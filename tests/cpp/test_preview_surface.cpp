@@ -90,7 +90,7 @@ TEST(PreviewSurface, AConstantOfTheWrongTypeWarnsAndKeepsTheDefault) {
     n.nodes["/S"].parameters["roughness"] = std::array<float, 3>{1, 1, 1};
     Warnings w;
     EXPECT_EQ(resolve(n, w, "/S").material.roughness, MaterialDesc().roughness);
-    std::string warning = w.one({"inputs:roughness of /S", "float3", "not a float"});
+    std::string warning = w.one({"inputs:roughness of /S", "type float3, not float;"});
     EXPECT_EQ(warning.rfind(kMaterial + ": ", 0), 0u) << warning;
 }
 
