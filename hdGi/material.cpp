@@ -1,18 +1,21 @@
 #include "material.h"
 
-#include <algorithm>
+#include <array>
+#include <optional>
 
+#include "pxr/base/gf/vec2d.h"
 #include "pxr/base/gf/vec2f.h"
+#include "pxr/base/gf/vec3d.h"
 #include "pxr/base/gf/vec3f.h"
+#include "pxr/base/gf/vec4d.h"
 #include "pxr/base/gf/vec4f.h"
-#include "pxr/base/tf/stringUtils.h"
 #include "pxr/imaging/hd/changeTracker.h"
 #include "pxr/imaging/hd/renderIndex.h"
 #include "pxr/imaging/hd/sceneDelegate.h"
 #include "pxr/usd/sdf/assetPath.h"
 #include "gprim.h"
 #include "renderParam.h"
-#include "renderer/usd_shading.h"
+#include "renderer/preview_surface.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
 
@@ -22,154 +25,60 @@ HdDirtyBits HdGiMaterial::GetInitialDirtyBitsMask() const { return AllDirty; }
 
 namespace {
 
-float AsFloat(VtValue const& v, float fallback) {
+// A Hydra parameter as the network description holds it (renderer/shader_network.h); nothing for a
+// type that description has no place for (the input then reads as unauthored).
+std::optional<gi::ShaderValue> ShaderValueOf(VtValue const& v) {
     if (v.IsHolding<float>()) return v.UncheckedGet<float>();
     if (v.IsHolding<double>()) return float(v.UncheckedGet<double>());
     if (v.IsHolding<int>()) return float(v.UncheckedGet<int>());
-    return fallback;
-}
-
-gi::Color AsColor(VtValue const& v, gi::Color fallback) {
-    if (v.IsHolding<GfVec3f>()) {
-        GfVec3f c = v.UncheckedGet<GfVec3f>();
-        return gi::Color(c[0], c[1], c[2]);
-    }
-    return fallback;
-}
-
-void AsFloat4(VtValue const& v, float out[4]) {
-    if (v.IsHolding<GfVec4f>()) {
-        GfVec4f c = v.UncheckedGet<GfVec4f>();
-        for (int i = 0; i < 4; ++i) out[i] = c[i];
-    }
-}
-
-std::string AsToken(VtValue const& v, std::string fallback) {
+    if (v.IsHolding<bool>()) return float(v.UncheckedGet<bool>());
     if (v.IsHolding<TfToken>()) return v.UncheckedGet<TfToken>().GetString();
     if (v.IsHolding<std::string>()) return v.UncheckedGet<std::string>();
-    return fallback;
+    if (v.IsHolding<SdfAssetPath>()) {
+        SdfAssetPath const& asset = v.UncheckedGet<SdfAssetPath>();
+        return gi::ShaderAsset{asset.GetAssetPath(), asset.GetResolvedPath()};
+    }
+    auto floats = [](auto const& vec) {
+        std::array<float, std::decay_t<decltype(vec)>::dimension> out;
+        for (size_t i = 0; i < out.size(); ++i) out[i] = float(vec[i]);
+        return gi::ShaderValue(out);
+    };
+    if (v.IsHolding<GfVec2f>()) return floats(v.UncheckedGet<GfVec2f>());
+    if (v.IsHolding<GfVec2d>()) return floats(v.UncheckedGet<GfVec2d>());
+    if (v.IsHolding<GfVec3f>()) return floats(v.UncheckedGet<GfVec3f>());
+    if (v.IsHolding<GfVec3d>()) return floats(v.UncheckedGet<GfVec3d>());
+    if (v.IsHolding<GfVec4f>()) return floats(v.UncheckedGet<GfVec4f>());
+    if (v.IsHolding<GfVec4d>()) return floats(v.UncheckedGet<GfVec4d>());
+    return std::nullopt;
 }
 
-VtValue ParamOf(HdMaterialNode2 const& node, char const* name) {
-    auto it = node.parameters.find(TfToken(name));
-    return it == node.parameters.end() ? VtValue() : it->second;
+gi::ShaderNetwork ShaderNetworkOf(HdMaterialNetwork2 const& network) {
+    gi::ShaderNetwork out;
+    for (auto const& [path, node] : network.nodes) {
+        gi::ShaderNode& n = out.nodes[path.GetString()];
+        n.id = node.nodeTypeId.GetString();
+        for (auto const& [name, value] : node.parameters)
+            if (std::optional<gi::ShaderValue> v = ShaderValueOf(value)) n.parameters[name.GetString()] = *v;
+        for (auto const& [input, connections] : node.inputConnections)
+            if (!connections.empty())
+                n.connections[input.GetString()] = {connections[0].upstreamNode.GetString(),
+                                                    connections[0].upstreamOutputName.GetString()};
+    }
+    return out;
 }
-
-HdMaterialConnection2 const* Upstream(HdMaterialNode2 const& node, char const* input) {
-    auto it = node.inputConnections.find(TfToken(input));
-    return it == node.inputConnections.end() || it->second.empty() ? nullptr : &it->second[0];
-}
-
-class NetworkReader {
-public:
-    NetworkReader(SdfPath const& id, HdMaterialNetwork2 const& network, HdGiRenderParam* param)
-        : _id(id), _network(network), _param(param) {}
-
-    HdMaterialNode2 const* Node(SdfPath const& path) const {
-        auto it = _network.nodes.find(path);
-        return it == _network.nodes.end() ? nullptr : &it->second;
-    }
-
-    // A UsdUVTexture feeding `input`, read into `texture`; false (and a warning for
-    // unsupported nodes) when the input is a constant.
-    bool Texture(HdMaterialNode2 const& surface, char const* input, gi::TextureDesc* texture,
-                 std::vector<std::string>* readerVarnames) {
-        HdMaterialConnection2 const* c = Upstream(surface, input);
-        if (!c) return false;
-        HdMaterialNode2 const* node = Node(c->upstreamNode);
-        if (!node || node->nodeTypeId != TfToken("UsdUVTexture")) {
-            _param->Warn(_id, std::string("inputs:") + input + " is driven by " + c->upstreamNode.GetString() +
-                                  " (" + (node ? node->nodeTypeId.GetString() : "missing") +
-                                  "), which is not supported there; using the default");
-            return false;
-        }
-        VtValue file = ParamOf(*node, "file");
-        if (file.IsHolding<SdfAssetPath>()) {
-            SdfAssetPath const& asset = file.UncheckedGet<SdfAssetPath>();
-            texture->file = asset.GetResolvedPath();
-            if (texture->file.empty() && !asset.GetAssetPath().empty())
-                _param->Warn(c->upstreamNode, "texture file '" + asset.GetAssetPath() + "' was not found; using its fallback");
-        }
-        // An unauthored parameter keeps TextureDesc's default, the spec's (renderer/texture.h).
-        texture->wrapS = AsToken(ParamOf(*node, "wrapS"), texture->wrapS);
-        texture->wrapT = AsToken(ParamOf(*node, "wrapT"), texture->wrapT);
-        AsFloat4(ParamOf(*node, "scale"), texture->scale);
-        AsFloat4(ParamOf(*node, "bias"), texture->bias);
-        AsFloat4(ParamOf(*node, "fallback"), texture->fallback);
-        texture->sourceColorSpace = AsToken(ParamOf(*node, "sourceColorSpace"), texture->sourceColorSpace);
-        std::string output = c->upstreamOutputName.GetString();
-        texture->channel = output == "r" || output == "g" || output == "b" || output == "a" ? output : "rgb";
-        std::string varname = ReadStNetwork(*node, texture);
-        if (!varname.empty() && std::find(readerVarnames->begin(), readerVarnames->end(), varname) == readerVarnames->end())
-            readerVarnames->push_back(varname);
-        return true;
-    }
-
-private:
-    // The UsdTransform2d (optional) and UsdPrimvarReader_float2 feeding a texture's st: fills the
-    // transform into `texture`, returns the reader's varname ("" without a reader).
-    std::string ReadStNetwork(HdMaterialNode2 const& textureNode, gi::TextureDesc* texture) {
-        HdMaterialConnection2 const* c = Upstream(textureNode, "st");
-        HdMaterialNode2 const* node = c ? Node(c->upstreamNode) : nullptr;
-        if (node && node->nodeTypeId == TfToken("UsdTransform2d")) {
-            texture->stRotation = AsFloat(ParamOf(*node, "rotation"), texture->stRotation);
-            VtValue scale = ParamOf(*node, "scale"), translation = ParamOf(*node, "translation");
-            if (scale.IsHolding<GfVec2f>())
-                texture->stScale = gi::Vec2(scale.UncheckedGet<GfVec2f>()[0], scale.UncheckedGet<GfVec2f>()[1]);
-            if (translation.IsHolding<GfVec2f>())
-                texture->stTranslation =
-                    gi::Vec2(translation.UncheckedGet<GfVec2f>()[0], translation.UncheckedGet<GfVec2f>()[1]);
-            c = Upstream(*node, "in");
-            node = c ? Node(c->upstreamNode) : nullptr;
-        }
-        if (!node || !TfStringStartsWith(node->nodeTypeId.GetString(), "UsdPrimvarReader")) return "";
-        return AsToken(ParamOf(*node, "varname"), "");
-    }
-
-    SdfPath const& _id;
-    HdMaterialNetwork2 const& _network;
-    HdGiRenderParam* _param;
-};
 
 }  // namespace
 
 std::shared_ptr<gi::MaterialDesc> HdGiMaterialFromNetwork(SdfPath const& id, HdMaterialNetwork2 const& network,
                                                           HdGiRenderParam* param, std::vector<std::string>* readerVarnames) {
     auto terminal = network.terminals.find(HdMaterialTerminalTokens->surface);
-    if (terminal == network.terminals.end()) return nullptr;
-    auto surfaceIt = network.nodes.find(terminal->second.upstreamNode);
-    if (surfaceIt == network.nodes.end() || surfaceIt->second.nodeTypeId != TfToken("UsdPreviewSurface")) {
-        param->Warn(id, "no UsdPreviewSurface drives its surface output; using the prim's displayColor");
-        return nullptr;
-    }
-    HdMaterialNode2 const& s = surfaceIt->second;
-    NetworkReader reader(id, network, param);
-    auto d = std::make_shared<gi::MaterialDesc>();
-    d->name = id.GetString();
-    // An unauthored input keeps MaterialDesc's default, the spec's (renderer/material.h).
-    d->diffuseColor = AsColor(ParamOf(s, "diffuseColor"), d->diffuseColor);
-    d->emissiveColor = AsColor(ParamOf(s, "emissiveColor"), d->emissiveColor);
-    VtValue workflow = ParamOf(s, "useSpecularWorkflow");
-    d->useSpecularWorkflow = workflow.IsHolding<int>() ? workflow.UncheckedGet<int>() != 0
-                             : workflow.IsHolding<bool>() ? workflow.UncheckedGet<bool>()
-                                                          : d->useSpecularWorkflow;
-    d->specularColor = AsColor(ParamOf(s, "specularColor"), d->specularColor);
-    d->metallic = AsFloat(ParamOf(s, "metallic"), d->metallic);
-    d->roughness = AsFloat(ParamOf(s, "roughness"), d->roughness);
-    d->clearcoat = AsFloat(ParamOf(s, "clearcoat"), d->clearcoat);
-    d->clearcoatRoughness = AsFloat(ParamOf(s, "clearcoatRoughness"), d->clearcoatRoughness);
-    d->opacity = AsFloat(ParamOf(s, "opacity"), d->opacity);
-    d->opacityMode = AsToken(ParamOf(s, "opacityMode"), d->opacityMode);
-    d->opacityThreshold = AsFloat(ParamOf(s, "opacityThreshold"), d->opacityThreshold);
-    d->ior = AsFloat(ParamOf(s, "ior"), d->ior);
-
-    // A textured input's constant becomes the texture's fallback (renderer/usd_shading.h).
-    for (char const* input : {"diffuseColor", "emissiveColor", "specularColor", "metallic", "roughness", "opacity", "normal"}) {
-        gi::TextureDesc texture;
-        if (reader.Texture(s, input, &texture, readerVarnames)) gi::connectTexture(*d, input, texture);
-    }
-    if (Upstream(s, "displacement")) param->Warn(id, "displacement is not supported; ignored");
-    return d;
+    std::string surface = terminal == network.terminals.end() ? "" : terminal->second.upstreamNode.GetString();
+    std::optional<gi::PreviewSurface> resolved = gi::resolvePreviewSurface(
+        id.GetString(), ShaderNetworkOf(network), surface,
+        [&](std::string const& path, std::string const& message) { param->Warn(path + ": " + message); });
+    if (!resolved) return nullptr;
+    *readerVarnames = std::move(resolved->readerVarnames);
+    return std::make_shared<gi::MaterialDesc>(std::move(resolved->material));
 }
 
 void HdGiMaterial::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDirtyBits* dirtyBits) {

@@ -1,6 +1,6 @@
-// Hydra material networks (UsdPreviewSurface, UsdUVTexture, UsdPrimvarReader_float2,
-// UsdTransform2d) to the renderer's MaterialDesc. Textures are only named here; the renderer
-// reads them when a visible prim uses the material.
+// Hydra material networks to the renderer's MaterialDesc: translated into renderer/shader_network.h's
+// description and resolved by renderer/preview_surface.h, the rules `gi render` shares. Textures
+// are only named here; the renderer reads them when a visible prim uses the material.
 #pragma once
 #include <memory>
 #include <string>
@@ -22,7 +22,8 @@ public:
     void Finalize(HdRenderParam* renderParam) override;
 };
 
-// The network's surface as a MaterialDesc; warnings name the node and input. `readerVarnames`
+// The network's surface as a MaterialDesc (nullptr, after a warning, when it is not a
+// UsdPreviewSurface); warnings name the material, node and input. `readerVarnames`
 // receives the primvars its textures' UsdPrimvarReader_float2 nodes read, in input order.
 std::shared_ptr<gi::MaterialDesc> HdGiMaterialFromNetwork(SdfPath const& id, HdMaterialNetwork2 const& network,
                                                           HdGiRenderParam* param, std::vector<std::string>* readerVarnames);

@@ -100,4 +100,31 @@ FilmWindow filmWindow(const CameraLens& lens, const ImageFraming& framing, int w
     return window;
 }
 
+CameraDesc framingCamera(std::array<double, 3> center, std::array<double, 3> size, bool zUp) {
+    bool finite = true;
+    for (int i = 0; i < 3; ++i) finite = finite && std::isfinite(center[i]) && std::isfinite(size[i]) && size[i] >= 0;
+    if (!finite) center = size = {0, 0, 0};
+    CameraDesc c;
+    c.name = "<framing camera>";
+    c.clipNear = 1;  // GfCamera's clipping range, as usdrecord hands it to Hydra
+    c.clipFar = 1e6f;
+    int up = zUp ? 2 : 1, depth = zUp ? 1 : 2;
+    // In float where usdrecord computes in float; tan(half fov) is the aperture over twice the
+    // focal length (GfCamera's atan, then tan, gives it back to within a float's rounding).
+    float planeRadius = float(std::sqrt(size[0] * size[0] / 4 + size[up] * size[up] / 4));
+    float distance = planeRadius / (c.horizontalAperture / (2 * c.focalLength));
+    distance = float(distance + size[depth] / 2);
+    if (distance < c.clipNear) distance += c.clipNear;
+    if (zUp) {  // rotated 90 degrees about X: the camera's -Z looks along +Y, its +Y is +Z
+        c.transform.m[1][1] = 0;
+        c.transform.m[1][2] = 1;
+        c.transform.m[2][1] = -1;
+        c.transform.m[2][2] = 0;
+    }
+    c.transform.m[3][0] = center[0];
+    c.transform.m[3][1] = center[1] - (zUp ? distance : 0);
+    c.transform.m[3][2] = center[2] + (zUp ? 0 : distance);
+    return c;
+}
+
 }  // namespace gi

@@ -5,6 +5,7 @@
 // from Hydra's framing (its window policy and display window), and both hand over the camera's
 // attributes, so the same camera gives the same rays, bit for bit.
 #pragma once
+#include <array>
 #include <string>
 
 #include "camera_desc.h"
@@ -48,5 +49,18 @@ struct FilmWindow {
     double centerX = 0, centerY = 0, halfWidth = 1, halfHeight = 1;
 };
 FilmWindow filmWindow(const CameraLens& lens, const ImageFraming& framing, int width, int height);
+
+// The camera that frames a scene given no camera of its own: usdrecord's free camera (OpenUSD 24.11,
+// UsdAppUtilsFrameRecorder's _ComputeCameraToFrameStage), so that a stage without a camera shows
+// the same view in `gi render` as in usdrecord. A default camera (CameraDesc's defaults are
+// GfCamera's: 50 mm, 20.955 x 15.2908 mm, clipping 1 to 1e6) looks down -Z (`zUp`: along +Y, its up
+// +Z) at the box's centre from the distance at which the box's half-diagonal across the image plane
+// fills half the horizontal field of view, backed off by half the box's depth; a distance under the
+// near clipping plane (1) is lengthened by it, so small scenes are not clipped. An empty or
+// non-finite box (a stage with nothing to bound) frames the origin as a point.
+// `gi render` passes the stage's bounding box (UsdGeomBBoxCache with extents hints, as usdrecord);
+// the renderer, given a scene without a camera, its geometry's box with Y up; hdGi never needs it,
+// as Hydra hosts (usdrecord included) always hand it a camera.
+CameraDesc framingCamera(std::array<double, 3> center, std::array<double, 3> size, bool zUp);
 
 }  // namespace gi

@@ -17,15 +17,14 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 bool past(double deadline) { return deadline > 0 && steadySeconds() >= deadline; }
 
+// A scene given no camera is framed as usdrecord frames a stage without one (camera_framing.h), from
+// its geometry's box, Y up (the scene does not know the stage's up axis; `gi render` frames stages
+// itself, with their bounding box and up axis).
 CameraDesc defaultCamera(const Scene& scene) {
-    // No camera: look at the scene's bounding sphere from +Z.
-    CameraDesc c;
+    Vec3 lo = scene.boundsMin(), hi = scene.boundsMax();
+    CameraDesc c = framingCamera({0.5 * (double(lo.x) + hi.x), 0.5 * (double(lo.y) + hi.y), 0.5 * (double(lo.z) + hi.z)},
+                                 {double(hi.x) - lo.x, double(hi.y) - lo.y, double(hi.z) - lo.z}, false);
     c.name = "<default camera>";
-    const SceneBounds& b = scene.bounds();
-    float distance = b.radius / std::tan(0.5f * 2 * std::atan(0.5f * c.verticalAperture / c.focalLength)) * 1.1f;
-    c.transform.m[3][0] = b.center.x;
-    c.transform.m[3][1] = b.center.y;
-    c.transform.m[3][2] = b.center.z + distance;
     return c;
 }
 }  // namespace

@@ -11,13 +11,6 @@ float srgbToLinear(float c) {
     return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
-int parseWrap(const std::string& s) {
-    if (s == "mirror") return kWrapMirror;
-    if (s == "clamp") return kWrapClamp;
-    if (s == "black") return kWrapBlack;
-    return kWrapRepeat;  // repeat and useMetadata (UsdUVTexture's fallback for metadata is repeat)
-}
-
 // Maps an integer texel coordinate into range; returns false for 'black' outside the image.
 bool wrapCoordinate(int& i, int n, int mode) {
     if (i >= 0 && i < n) return true;
@@ -35,6 +28,13 @@ bool wrapCoordinate(int& i, int n, int mode) {
 }
 
 }  // namespace
+
+bool parseWrapMode(const std::string& token, int* mode) {
+    *mode = token == "mirror" ? kWrapMirror : token == "clamp" ? kWrapClamp : token == "black" ? kWrapBlack : kWrapRepeat;
+    // useMetadata reads the image's own wrap metadata, which no format we read carries: UsdUVTexture
+    // falls back to repeat.
+    return *mode != kWrapRepeat || token == "repeat" || token == "useMetadata";
+}
 
 namespace {
 // Widens 1-4 channels to RGBA: grey to RGB, grey+alpha, extra channels dropped.
@@ -127,8 +127,8 @@ void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4]) const {
 }
 
 void Texture::prepare() {
-    wrapS = parseWrap(desc.wrapS);
-    wrapT = parseWrap(desc.wrapT);
+    parseWrapMode(desc.wrapS, &wrapS);
+    parseWrapMode(desc.wrapT, &wrapT);
     const std::string& c = desc.channel;
     channelIndex = c == "r" ? 0 : c == "g" ? 1 : c == "b" ? 2 : c == "a" ? 3 : -1;
     // UsdTransform2d: st' = R(rotation) * (st * scale) + translation.

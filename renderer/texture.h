@@ -54,6 +54,9 @@ private:
 };
 
 enum WrapMode { kWrapRepeat = 0, kWrapMirror, kWrapClamp, kWrapBlack };
+// UsdUVTexture's wrapS/wrapT token (black, clamp, repeat, mirror, useMetadata) as a WrapMode;
+// false, and repeat, for any other token.
+bool parseWrapMode(const std::string& token, int* mode);
 
 // A bound texture: the image plus the descriptor's transforms, evaluated at an st coordinate.
 struct Texture {

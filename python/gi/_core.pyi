@@ -303,11 +303,38 @@ def assign_subset_faces(face_count: int, subsets: Sequence[tuple[str, Optional[n
     'warnings': [(prim path, message)]}."""
 
 # The shading rules shared with the Hydra delegate (renderer/usd_shading.h).
-def texture_stand_in(input: str, fallback: tuple[float, float, float, float],
-                     channel: str) -> Optional[Union[tuple[float, float, float], float]]:
-    """What a UsdPreviewSurface input connected to a UsdUVTexture reads when the file is missing: the
-    texture's fallback in the channel read (a colour for colour inputs, a float for the others);
-    None for normal or an unknown input."""
+class ShaderAsset:
+    """An asset-valued shader input: the path as authored and the file it resolves to ('' = none)."""
+    authored: str
+    resolved: str
+    def __init__(self, authored: str = "", resolved: str = "") -> None: ...
+
+class ShaderNode:
+    """A shader in a ShaderNetwork (renderer/shader_network.h): its id and its authored inputs."""
+    id: str
+    def __init__(self, id: str = "") -> None: ...
+    def set(self, input: str, value: Union[float, int, bool, str, tuple, list, ShaderAsset]) -> None:
+        """An authored constant on `input` (without 'inputs:'): a number, 2 to 4 numbers, a str or an asset."""
+    def connect(self, input: str, node: str, output: str) -> None:
+        """`input` driven by output `output` of the node at path `node`."""
+
+class ShaderNetwork:
+    """A material's shaders by prim path, as the stage authors them."""
+    def __init__(self) -> None: ...
+    def add(self, path: str, node: ShaderNode) -> None: ...
+    def __contains__(self, path: str) -> bool: ...
+
+def resolve_preview_surface(material_path: str, network: ShaderNetwork, surface: str,
+                            warn: Callable[[str, str], None]
+                            ) -> Optional[tuple[MaterialDesc, list[str], list[tuple[str, str]]]]:
+    """The material whose surface output node `surface` ('' for none) drives, by the rules hdGi
+    shares (renderer/preview_surface.h): (MaterialDesc, the varnames its primvar readers read, the
+    texture files it names as (authored, resolved)); None after warn(material_path, message) when
+    it is not a UsdPreviewSurface. Each warning names the node and input, once."""
+
+def framing_camera(center: tuple[float, float, float], size: tuple[float, float, float], z_up: bool) -> CameraDesc:
+    """The camera that frames a bounding box (its centre and size) when the stage has none:
+    usdrecord's free camera (renderer/camera_framing.h)."""
 
 def display_color_material(prim: str, display_color: Optional[tuple[float, float, float]] = None) -> MaterialDesc:
     """The material of a gprim with no usable material: UsdPreviewSurface defaults, diffuse colour

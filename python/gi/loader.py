@@ -483,28 +483,22 @@ def camera_desc(prim, world, time):
     return desc
 
 
-def framing_camera(stage, time, resolution):
-    """A camera on +Z looking down -Z at the whole scene's bounding box."""
+def framing_camera(stage, time):
+    """The camera that frames a stage with no camera of its own: usdrecord's (gi._core.framing_camera,
+    renderer/camera_framing.h), on the bounding box of what `gi` renders, measured as usdrecord
+    measures it (UsdGeomBBoxCache with extents hints, its centroid and aligned size), and the stage's
+    up axis. Without the compiled core nothing renders, so a stand-in is returned."""
     cache = UsdGeom.BBoxCache(time, list(RENDERED_PURPOSES), useExtentsHint=True)
     try:
-        box = cache.ComputeWorldBound(stage.GetPseudoRoot()).ComputeAlignedRange()
+        box = cache.ComputeWorldBound(stage.GetPseudoRoot())
+        center, size = box.ComputeCentroid(), box.ComputeAlignedRange().GetSize()
     except UNREADABLE:  # a malformed transform or extent somewhere: frame the origin
-        box = Gf.Range3d()
-    if not all(math.isfinite(v) for v in (*box.GetMin(), *box.GetMax())):
-        box = Gf.Range3d()
-    center = box.GetMidpoint() if not box.IsEmpty() else Gf.Vec3d(0, 0, 0)
-    radius = max(box.GetSize().GetLength() / 2, 1e-3) if not box.IsEmpty() else 1.0
-    desc = descriptors.CameraDesc()
-    desc.name = "framing camera"
-    desc.projection = "perspective"
-    desc.focal_length = 50.0
-    desc.horizontal_aperture = 36.0
-    desc.vertical_aperture = 36.0 * resolution[1] / resolution[0]
-    half_fov = math.atan(min(desc.horizontal_aperture, desc.vertical_aperture) / 2 / desc.focal_length)
-    distance = radius / math.sin(half_fov)
-    desc.clipping_range = (max(distance - radius, 1e-3 * radius) / 2, (distance + radius) * 2)
-    desc.transform = matrix(Gf.Matrix4d().SetTranslate(center + Gf.Vec3d(0, 0, distance)))
-    return desc
+        center = size = (0.0, 0.0, 0.0)
+    if not descriptors.HAVE_CORE:
+        return descriptors.CameraDesc()
+    from ._core import framing_camera as core_framing_camera
+    z_up = UsdGeom.GetStageUpAxis(stage) == UsdGeom.Tokens.z
+    return core_framing_camera(tuple(center), tuple(size), z_up)
 
 
 def as_time_code(time):
@@ -586,8 +580,8 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
         camera_path = str(prim.GetPath())
     else:
         if prim is None:
-            loader.warn("/", "no camera in the stage; using one on +Z that frames the whole scene")
-        scene.set_camera(framing_camera(stage, time, resolution))
+            loader.warn("/", "no camera in the stage; using one that frames the whole scene, as usdrecord does")
+        scene.set_camera(framing_camera(stage, time))
         camera_path = ""
 
     counts = dict(loader.counts, materials=loader.materials.added)

@@ -2,7 +2,6 @@
 
 `warn(prim_path, message)` reports a problem; the caller adds the file name."""
 import os
-from dataclasses import dataclass
 
 from pxr import Sdf, Tf, UsdGeom, UsdShade
 
@@ -18,196 +17,78 @@ def error_text(error):
     lines = [line.strip() for line in str(error).splitlines() if line.strip()]
     return lines[-1] if lines else type(error).__name__
 
-# UsdPreviewSurface input -> (MaterialDesc field, its TextureDesc field, kind). A None field means
-# the renderer has no use for it (a constant there is ignored silently). An input with no value
-# keeps the descriptor's default: the spec's, written once in renderer/material.h.
-PREVIEW_SURFACE_INPUTS = {
-    "diffuseColor": ("diffuse_color", "diffuse_color_texture", "color"),
-    "emissiveColor": ("emissive_color", "emissive_color_texture", "color"),
-    "useSpecularWorkflow": ("use_specular_workflow", None, "bool"),
-    "specularColor": ("specular_color", "specular_color_texture", "color"),
-    "metallic": ("metallic", "metallic_texture", "float"),
-    "roughness": ("roughness", "roughness_texture", "float"),
-    "clearcoat": ("clearcoat", None, "float"),
-    "clearcoatRoughness": ("clearcoat_roughness", None, "float"),
-    "opacity": ("opacity", "opacity_texture", "float"),
-    "opacityMode": ("opacity_mode", None, "token"),
-    "opacityThreshold": ("opacity_threshold", None, "float"),
-    "ior": ("ior", None, "float"),
-    "normal": (None, "normal_texture", "normal"),
-}
+# -- shading networks ----------------------------------------------------------------------------
+# The loader only describes a material's network as the stage authors it (gi._core.ShaderNetwork,
+# renderer/shader_network.h); which nodes and inputs mean what, their defaults and the warnings are
+# renderer/preview_surface.h's, the rules hdGi resolves Hydra's networks by.
 
-# UsdUVTexture inputs read into TextureDesc (unauthored: its default, the spec's, renderer/texture.h).
-TEXTURE_INPUTS = {"wrapS": "wrap_s", "wrapT": "wrap_t", "scale": "scale", "bias": "bias", "fallback": "fallback",
-                  "sourceColorSpace": "source_color_space"}
-CHANNELS = {"r": 0, "g": 1, "b": 2, "a": 3}
-
-
-# -- reading shader networks ---------------------------------------------------------------------
-
-@dataclass
-class Source:
-    """What drives a shader input: a constant (value, None when nothing is authored) or a shader's output."""
-    value: object = None
-    shader: UsdShade.Shader = None
-    output: str = ""
-
-
-def input_source(shader, name):
-    """Follows connections (through node graphs and material interface inputs) to what drives `name`."""
-    shader_input = shader.GetInput(name)
-    if not shader_input:
-        return Source()
-    attributes = shader_input.GetValueProducingAttributes(shaderOutputsOnly=False)
-    if not attributes:
-        return Source()
-    attribute = attributes[0]
-    if UsdShade.Output.IsOutput(attribute):
-        return Source(shader=UsdShade.Shader(attribute.GetPrim()),
-                      output=UsdShade.Output(attribute).GetBaseName())
-    return Source(value=attribute.Get())
-
-
-def input_value(shader, name, default):
-    value = input_source(shader, name).value
-    return default if value is None else value
-
-
-def shader_id(shader):
-    return shader.GetShaderId() or ""
-
-
-def converted(value, kind):
-    if kind == "color":
-        return tuple(float(c) for c in value)[:3]
-    if kind == "bool":
-        return bool(value)
-    if kind == "token":
-        return str(value)
-    return float(value)
-
-
-# -- textures ------------------------------------------------------------------------------------
-
-@dataclass
-class TextureRead:
-    desc: object = None           # TextureDesc; its file is '' when missing (the fallback stands in)
-    uv_primvar: str = ""          # UsdPrimvarReader_float2's varname
-
-
-def texture_file(texture, material_path, warn, seen):
-    """Resolved absolute path of a UsdUVTexture's file, or '' (with a warning naming the
-    material and the file) when it cannot be found."""
-    asset = input_value(texture, "file", None)
-    if not isinstance(asset, Sdf.AssetPath) or not asset.path:
-        warn(material_path, f"texture {texture.GetPath()} has no file; using its fallback")
-        return ""
+def asset_of(asset):
+    """An asset-valued input as gi._core.ShaderAsset: as authored, and the file it resolves to
+    ('' when no file is there)."""
+    from ._core import ShaderAsset
     resolved = asset.resolvedPath
-    exists = bool(resolved) and os.path.isfile(resolved)
-    seen[asset.path] = resolved if exists else None
-    if not exists:
-        warn(material_path, f"texture file '{asset.path}' (read by {texture.GetPath()}) was not found; "
-                            f"using its fallback")
-        return ""
-    return resolved
+    return ShaderAsset(asset.path, resolved if resolved and os.path.isfile(resolved) else "")
 
 
-def read_st_network(texture, desc):
-    """UsdTransform2d (optional) and UsdPrimvarReader_float2 feeding a texture's st: fills the
-    transform into `desc` and returns the primvar name."""
-    source = input_source(texture, "st")
-    if source.shader is not None and shader_id(source.shader) == "UsdTransform2d":
-        transform = source.shader
-        desc.st_rotation = float(input_value(transform, "rotation", desc.st_rotation))
-        desc.st_scale = tuple(float(v) for v in input_value(transform, "scale", desc.st_scale))
-        desc.st_translation = tuple(float(v) for v in input_value(transform, "translation", desc.st_translation))
-        source = input_source(transform, "in")
-    if source.shader is not None and shader_id(source.shader).startswith("UsdPrimvarReader"):
-        return str(input_value(source.shader, "varname", ""))
-    return ""
+def constant_of(value):
+    """An authored value as gi._core.ShaderNode.set takes it (numbers, 2 to 4 numbers, str, an
+    asset); None for a value of another type (the input then reads as unauthored, as in hdGi)."""
+    if isinstance(value, Sdf.AssetPath):
+        return asset_of(value)
+    if isinstance(value, (bool, int, float, str)):
+        return value
+    if hasattr(value, "__len__") and 2 <= len(value) <= 4 and all(isinstance(v, (int, float)) for v in value):
+        return tuple(float(v) for v in value)
+    return None
 
 
-def read_texture(texture, output, material_path, warn, seen) -> TextureRead:
-    desc = descriptors.TextureDesc()
-    desc.file = texture_file(texture, material_path, warn, seen)
-    for name, field in TEXTURE_INPUTS.items():
-        value = input_value(texture, name, getattr(desc, field))
-        setattr(desc, field, str(value) if isinstance(value, str) else tuple(float(v) for v in value))
-    desc.channel = output if output in CHANNELS else "rgb"
-    return TextureRead(desc, read_st_network(texture, desc))
-
-
-def connect_texture(desc, name, field, texture_field, texture):
-    """The texture on the input and, as the input's constant, what it reads when the file is
-    missing (gi._core.texture_stand_in: renderer/usd_shading.h's rule, shared with hdGi). Without the
-    compiled core nothing renders, so only the texture is set."""
-    setattr(desc, texture_field, texture)
-    try:
-        from ._core import texture_stand_in
-    except ImportError:
-        return
-    constant = texture_stand_in(name, tuple(texture.fallback), texture.channel)
-    if field is not None and constant is not None:
-        setattr(desc, field, constant)
-
-
-# -- UsdPreviewSurface ---------------------------------------------------------------------------
-
-def surface_shader(material):
-    """The UsdPreviewSurface driving a material's universal surface output, or None."""
-    shader, _, _ = material.ComputeSurfaceSource()
-    if not shader or shader_id(shader) != "UsdPreviewSurface":
-        return None
-    return shader
-
-
-def read_input(shader, name, spec, desc, material_path, warn, textures):
-    """Sets one UsdPreviewSurface input on `desc`; returns the uv primvar its texture reads, if any."""
-    field, texture_field, kind = spec
-    source = input_source(shader, name)
-    if source.shader is None:
-        if field is not None and source.value is not None:
-            setattr(desc, field, converted(source.value, kind))
-        return ""
-    if shader_id(source.shader) != "UsdUVTexture" or texture_field is None:
-        warn(material_path, f"inputs:{name} is driven by {source.shader.GetPath()} "
-                            f"({shader_id(source.shader) or 'no id'}), which is not supported there; "
-                            f"using the default")
-        return ""
-    texture = read_texture(source.shader, source.output, material_path, warn, textures)
-    connect_texture(desc, name, field, texture_field, texture.desc)
-    return texture.uv_primvar
-
-
-def once(warn):
-    """`warn` that drops repeats (one missing file feeding several inputs is one problem)."""
-    said = set()
-
-    def warn_once(path, message):
-        if (path, message) not in said:
-            said.add((path, message))
-            warn(path, message)
-    return warn_once
+def shader_network(material):
+    """(gi._core.ShaderNetwork of the shaders feeding the material's universal surface output, the
+    path of the shader driving it or ''). Inputs are followed through node graphs and material
+    interface inputs to the shader output or the value that produces them, as UsdImaging flattens
+    them for Hydra."""
+    from ._core import ShaderNetwork, ShaderNode
+    network = ShaderNetwork()
+    surface, _, _ = material.ComputeSurfaceSource()
+    if not surface:
+        return network, ""
+    pending = [surface]
+    while pending:
+        shader = pending.pop()
+        path = str(shader.GetPath())
+        if path in network:
+            continue
+        node = ShaderNode(shader.GetShaderId() or "")
+        for shader_input in shader.GetInputs():
+            attributes = shader_input.GetValueProducingAttributes(shaderOutputsOnly=False)
+            if not attributes:
+                continue
+            name, attribute = shader_input.GetBaseName(), attributes[0]
+            if UsdShade.Output.IsOutput(attribute):
+                upstream = UsdShade.Shader(attribute.GetPrim())
+                node.connect(name, str(upstream.GetPath()), UsdShade.Output(attribute).GetBaseName())
+                pending.append(upstream)
+            elif (value := constant_of(attribute.Get())) is not None:
+                node.set(name, value)
+        network.add(path, node)
+    return network, str(surface.GetPath())
 
 
 def material_desc(material, warn, textures):
-    """(MaterialDesc, uv primvar names its textures read) for a bound material, or (None, ())
-    if it has no UsdPreviewSurface."""
+    """(MaterialDesc, uv primvar names its textures read) for a bound material, or (None, ()) if no
+    UsdPreviewSurface drives its surface (after a warning). Records each texture file it names in
+    `textures` (as authored -> resolved file, None when missing). Without the compiled core the
+    network cannot be resolved: a stand-in with the defaults is counted instead."""
+    if not descriptors.HAVE_CORE:
+        return descriptors.MaterialDesc(), ()
+    from ._core import resolve_preview_surface
     path = str(material.GetPath())
-    warn = once(warn)
-    shader = surface_shader(material)
-    if shader is None:
-        warn(path, "no UsdPreviewSurface drives its surface output; using the default material")
+    network, surface = shader_network(material)
+    resolved = resolve_preview_surface(path, network, surface, warn)
+    if resolved is None:
         return None, ()
-    desc = descriptors.MaterialDesc()
-    desc.name = path
-    uv_names = []
-    for name, spec in PREVIEW_SURFACE_INPUTS.items():
-        uv_name = read_input(shader, name, spec, desc, path, warn, textures)
-        if uv_name and uv_name not in uv_names:
-            uv_names.append(uv_name)
-    if input_source(shader, "displacement").shader is not None:
-        warn(path, "displacement is not supported; ignored")
+    desc, uv_names, files = resolved
+    textures.update({authored: file or None for authored, file in files})
     return desc, tuple(uv_names)
 
 

@@ -132,26 +132,7 @@ void bindDescriptors(nb::module_& m) {
         .def_rw("opacity_texture", &MaterialDesc::opacityTexture)
         .def_rw("normal_texture", &MaterialDesc::normalTexture);
 
-    // The shading rules shared with hdGi (renderer/usd_shading.h).
-    m.def(
-        "texture_stand_in",
-        [](const std::string& input, Float4 fallback, const std::string& channel) -> nb::object {
-            // connectTexture's constant for the input, from plain values (the loader's descriptors
-            // may be gi.descriptors' pure-Python stand-ins).
-            TextureDesc t;
-            std::tie(t.fallback[0], t.fallback[1], t.fallback[2], t.fallback[3]) = fallback;
-            t.channel = channel;
-            MaterialDesc d;
-            if (!connectTexture(d, input, t) || input == "normal") return nb::none();
-            if (input == "diffuseColor") return nb::cast(fromColor(d.diffuseColor));
-            if (input == "emissiveColor") return nb::cast(fromColor(d.emissiveColor));
-            if (input == "specularColor") return nb::cast(fromColor(d.specularColor));
-            return nb::cast(input == "metallic" ? d.metallic : input == "roughness" ? d.roughness : d.opacity);
-        },
-        "input"_a, "fallback"_a, "channel"_a,
-        "The constant a UsdPreviewSurface input connected to a UsdUVTexture reads when the file is missing "
-        "(renderer/usd_shading.h's connectTexture): the texture's fallback in the channel read; None for "
-        "normal or an unknown input.");
+    // The shading rules shared with hdGi (renderer/usd_shading.h; networks: shading_bindings.cpp).
     m.def(
         "display_color_material",
         [](const std::string& prim, std::optional<Float3> color) {
@@ -206,6 +187,17 @@ void bindDescriptors(nb::module_& m) {
                      [](CameraDesc& c, Float2 v) { std::tie(c.clipNear, c.clipFar) = v; })
         .def_prop_rw("transform", [](const CameraDesc& c) { return nb::cast(fromMat4(c.transform), nb::rv_policy::move); },
                      [](CameraDesc& c, Matrix v) { c.transform = toMat4(v); });
+    m.def(
+        "framing_camera",
+        [](std::tuple<double, double, double> center, std::tuple<double, double, double> size, bool zUp) {
+            auto d = [](const std::tuple<double, double, double>& t) {
+                return std::array<double, 3>{std::get<0>(t), std::get<1>(t), std::get<2>(t)};
+            };
+            return framingCamera(d(center), d(size), zUp);
+        },
+        "center"_a, "size"_a, "z_up"_a,
+        "The camera that frames a bounding box (its centre and size) when the stage has none: usdrecord's "
+        "(renderer/camera_framing.h).");
 }
 
 using Points = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
@@ -726,6 +718,7 @@ void bindRendering(nb::module_& m) {
 void bindImport(nb::module_& m);    // import_bindings.cpp: read_obj, read_gltf
 void bindDenoiser(nb::module_& m);  // denoise_bindings.cpp: Denoiser, DenoiserUnavailable
 void bindMesh(nb::module_& m);      // mesh_bindings.cpp: tessellate_mesh, MeshPrimvar, SubdivisionRules
+void bindShading(nb::module_& m);   // shading_bindings.cpp: ShaderNetwork, resolve_preview_surface
 
 NB_MODULE(_core, m) {
     m.doc() = "hdGi's CPU global-illumination renderer";
@@ -735,4 +728,5 @@ NB_MODULE(_core, m) {
     bindImport(m);
     bindDenoiser(m);
     bindMesh(m);
+    bindShading(m);
 }

@@ -171,3 +171,54 @@ TEST(CameraFraming, RaysGoThroughTheWindow) {
     EXPECT_NEAR(r.o.x, ow.centerX - ow.halfWidth, 1e-6);
     EXPECT_NEAR(r.o.y, ow.centerY - ow.halfHeight, 1e-6);
 }
+
+// framingCamera: usdrecord's camera for a stage without one (its 24.11 _ComputeCameraToFrameStage).
+namespace {
+constexpr double kTanHalfFov = 20.955 / (2 * 50.0);  // GfCamera's default horizontal aperture and focal length
+constexpr double kFloat = 1e-5;                      // the rule computes its distance in float, as usdrecord
+
+Vec3 viewDirection(const CameraDesc& c) { return c.transform.vector(Vec3(0, 0, -1)); }
+Vec3 upDirection(const CameraDesc& c) { return c.transform.vector(Vec3(0, 1, 0)); }
+Vec3 position(const CameraDesc& c) { return c.transform.point(Vec3(0.0f)); }
+void ExpectVec(Vec3 actual, Vec3 expected) {
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(actual[i], expected[i]) << "component " << i;
+}
+}  // namespace
+
+TEST(FramingCamera, YUpLooksDownZAndTheBoxsImagePlaneDiagonalFillsTheHorizontalFov) {
+    CameraDesc c = framingCamera({1, 2, 3}, {4, 2, 6}, false);
+    ExpectVec(viewDirection(c), Vec3(0, 0, -1));
+    ExpectVec(upDirection(c), Vec3(0, 1, 0));
+    Vec3 p = position(c);
+    EXPECT_EQ(p.x, 1);
+    EXPECT_EQ(p.y, 2);
+    // The front face (z = 6) is where the half-diagonal sqrt(2^2 + 1^2) spans half the field of view.
+    EXPECT_NEAR(std::sqrt(5.0) / (p.z - 6), kTanHalfFov, kFloat);
+    EXPECT_EQ(c.focalLength, CameraDesc().focalLength);
+    EXPECT_EQ(c.horizontalAperture, CameraDesc().horizontalAperture);
+    EXPECT_EQ(c.clipNear, 1);
+    EXPECT_EQ(c.clipFar, 1e6f);
+}
+
+TEST(FramingCamera, ZUpLooksAlongYWithZUp) {
+    CameraDesc c = framingCamera({1, 2, 3}, {4, 6, 2}, true);
+    ExpectVec(viewDirection(c), Vec3(0, 1, 0));
+    ExpectVec(upDirection(c), Vec3(0, 0, 1));
+    Vec3 p = position(c);
+    EXPECT_EQ(p.x, 1);
+    EXPECT_EQ(p.z, 3);
+    EXPECT_NEAR(std::sqrt(5.0) / (2 - 3 - p.y), kTanHalfFov, kFloat);  // front face at y = -1
+}
+
+TEST(FramingCamera, ASmallBoxIsBackedOffByTheNearPlaneAndAnEmptyOneFramesTheOrigin) {
+    CameraDesc small = framingCamera({0, 0, 0}, {0.02, 0.02, 0.02}, false);
+    EXPECT_NEAR(position(small).z, std::sqrt(2e-4) / kTanHalfFov + 0.01 + 1, kFloat);
+    double inf = std::numeric_limits<double>::infinity(), lowest = -std::numeric_limits<float>::max();
+    // GfRange3d's empty box has a negative size; a NaN or Inf anywhere is no box either.
+    for (auto size : {std::array<double, 3>{2 * lowest, 2 * lowest, 2 * lowest}, std::array<double, 3>{inf, 1, 1}}) {
+        Vec3 p = position(framingCamera({0, 0, 0}, size, false));
+        EXPECT_EQ(p.x, 0);
+        EXPECT_EQ(p.y, 0);
+        EXPECT_EQ(p.z, 1);  // distance 0, lengthened by the near plane
+    }
+}

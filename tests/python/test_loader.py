@@ -433,6 +433,34 @@ def test_missing_texture_warns_naming_material_and_file_and_reads_its_fallback(t
     assert loaded.textures == {"missing_brick.png": None}
 
 
+def test_shader_networks_cross_the_bindings_typed():
+    """gi._core.ShaderNode takes what UsdShade gives (numbers, 2 to 4 numbers, str, assets) as
+    renderer/shader_network.h holds it, so the resolver reads the loader's networks as hdGi's; any
+    other value is a TypeError naming its type, not a silent default."""
+    _core = pytest.importorskip("gi._core")
+    surface, texture = _core.ShaderNode("UsdPreviewSurface"), _core.ShaderNode("UsdUVTexture")
+    surface.set("diffuseColor", (0.1, 0.2, 0.3))
+    surface.set("useSpecularWorkflow", True)
+    surface.set("roughness", 1)
+    surface.connect("metallic", "/M/Tex", "g")
+    texture.set("file", _core.ShaderAsset("./gone.png", ""))
+    texture.set("fallback", [0.0, 0.25, 0.0, 1.0])
+    network = _core.ShaderNetwork()
+    network.add("/M/Surface", surface)
+    network.add("/M/Tex", texture)
+    warnings = []
+    desc, varnames, files = _core.resolve_preview_surface("/M", network, "/M/Surface",
+                                                          lambda path, message: warnings.append((path, message)))
+    assert np.allclose(desc.diffuse_color, (0.1, 0.2, 0.3)) and desc.use_specular_workflow
+    assert desc.roughness == 1 and desc.metallic == 0.25  # the missing texture's fallback, channel g
+    assert varnames == [] and files == [("./gone.png", "")]
+    assert len(warnings) == 1 and warnings[0][0] == "/M" and "'./gone.png'" in warnings[0][1]
+    with pytest.raises(TypeError, match="dict"):
+        surface.set("ior", {"not": "a value"})
+    with pytest.raises(TypeError):
+        surface.set("ior", (1.0, 2.0, 3.0, 4.0, 5.0))
+
+
 def test_each_material_is_added_once(tmp_path, fake_scene):
     stage, path = new_stage(tmp_path)
     red = (Sdf.ValueTypeNames.Color3f, (1, 0, 0))

@@ -394,3 +394,24 @@ def test_bad_framing_settings_warn_and_fall_back(tmp_path):
     assert (settings.aspect_ratio_conform_policy, settings.pixel_aspect_ratio) == ("expandAperture", 1.0)
     with pytest.raises(ValueError, match="'fit'"):
         settings.aspect_ratio_conform_policy = "fit"
+
+
+def test_a_stage_without_a_camera_is_framed_as_usdrecord_frames_it(tmp_path):
+    """no_camera.usda names no camera: `gi render` frames it with usdrecord's free camera
+    (renderer/camera_framing.h), a default 50 mm camera whose horizontal field of view the quad's
+    half-diagonal sqrt(1.25) just fills at distance d = sqrt(1.25) / (20.955 / 100). At usdrecord's
+    240 x 175 (expandAperture widens the 20.955 x 15.2908 aperture to the image's aspect) the quad
+    spans 2 / d over a window 2 * 0.152908 * 240 / 175 wide, and 1 / d over one 2 * 0.152908 high,
+    centred. A pixel an edge crosses may or may not show the quad: the count of pixels showing it
+    lies between the rectangle shrunk and grown by one pixel on each side."""
+    image = rgb(render(tmp_path, "no_camera", "--resolution", 240, 175))
+    assert image.shape[:2] == (175, 240)
+    distance = math.sqrt(1.25) / (20.955 / 100)
+    half_height = 0.152908
+    width_px = 2 / distance / (2 * half_height * 240 / 175) * 240
+    height_px = 1 / distance / (2 * half_height) * 175
+    quad = (image != 1).any(axis=-1)
+    count = int(quad.sum())
+    assert (width_px - 2) * (height_px - 2) <= count <= (width_px + 2) * (height_px + 2), (count, width_px, height_px)
+    rows, columns = np.nonzero(quad)
+    assert abs((columns.min() + columns.max() + 1) / 2 - 120) <= 1 and abs((rows.min() + rows.max() + 1) / 2 - 87.5) <= 1
