@@ -61,7 +61,7 @@ public:
         ls.Li = ls.pdf > 0 ? radianceAt(s) : Color(0);
         return ls;
     }
-    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&) const override {
+    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&, float) const override {
         SurfacePoint s = samplePoint(uPos);
         Vec3 local = sampleCosineHemisphere(uDir);
         Vec3 n = s.n;
@@ -360,7 +360,7 @@ public:
         }
         byProjectedArea_ = Distribution1D(weights.data(), int(weights.size()));
     }
-    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds& b) const override {
+    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds& b, float) const override {
         Vec3 dir = delta_ ? frame_.n : frame_.toWorld(sampleUniformCone(uDir, cosMax_));
         if (portals_) {
             // From a portal, picked by its area projected towards the sun: E cos A / pdf.
@@ -456,7 +456,7 @@ public:
         return portals_ ? average_ * (kPi * portals_->totalArea()) : average_ * (4 * kPi * kPi * b.radius * b.radius);
     }
     void setPortals(std::shared_ptr<const PortalSet> portals) override { portals_ = std::move(portals); }
-    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds& b) const override {
+    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds& b, float) const override {
         if (portals_) {
             // From a portal picked by area, towards the interior, cosine-distributed about the
             // portal's direction: L(wi) cos / (cos / pi) / pdfArea.

@@ -74,9 +74,10 @@ public:
     // (light_sampler.h); false for infinite lights.
     virtual bool emissionBounds(LightBounds*) const { return false; }
     virtual Color power(const SceneBounds&) const = 0;
-    // A photon leaving the light; a moving light emits from where it is at shutter open, where
-    // photon rays (time 0) find the rest of the scene.
-    virtual PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&) const = 0;
+    // A photon leaving the light at `time` (the photon ray's instant in the shutter, as for
+    // sample()): a moving light emits from where it is then, so the photon maps hold its light
+    // spread over the shutter as camera rays see it.
+    virtual PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&, float time) const = 0;
     virtual bool isInfinite() const { return false; }
     // Whether emit()'s uPos names a fixed place in the scene (a point on the light, or on the
     // disc a sun shines through), so that an emission guide can learn which of them pay.

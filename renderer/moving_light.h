@@ -4,8 +4,9 @@
 // corners, edges, radii and radiance; normals interpolated and normalised). Camera rays, the
 // light samples of their paths (next-event estimation at the path's time) and the pdf a
 // BSDF-sampled ray that hits the light is weighted with all see the light at one time, so MIS
-// stays consistent. Bounds (light selection, the light BVH) hold every step, so they hold the
-// light at every time between (linear interpolation stays in the steps' convex hull).
+// stays consistent; photons leave it from where it is at their time. Bounds (light selection,
+// the light BVH) hold every step, so they hold the light at every time between (linear
+// interpolation stays in the steps' convex hull).
 #pragma once
 #include <utility>
 #include <vector>
@@ -60,8 +61,8 @@ public:
         for (const Kind& step : steps_) sum += step.power(bounds);
         return sum / float(steps_.size());
     }
-    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds& bounds) const override {
-        return steps_.front().emit(uPos, uDir, bounds);
+    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds& bounds, float time) const override {
+        return at(time).emit(uPos, uDir, bounds, time);
     }
     void preprocess(const SceneBounds& bounds) override {
         Light::preprocess(bounds);

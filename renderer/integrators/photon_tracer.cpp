@@ -18,11 +18,13 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
     float density = 1;
     if (guide_) uPosition = guide_->sample(light, uPosition, &density);
     if (cell) *cell = EmissionGuide::cellOf(uPosition);
-    PhotonEmission emission = scene_.lights()[light]->emit(uPosition, uDirection, scene_.bounds());
+    // Photons leave throughout the shutter, as camera rays arrive (a moving light from where it is).
+    float const time = sampler.shutterTime();
+    PhotonEmission emission = scene_.lights()[light]->emit(uPosition, uDirection, scene_.bounds(), time);
     Color beta = emission.power / float(double(pmf) * density * emitted);
     if (!isFinite(beta) || isBlack(beta) || !isFinite(emission.ray.o) || !isFinite(emission.ray.d)) return light;
     Ray ray = emission.ray;
-    ray.time = sampler.shutterTime();  // photons leave throughout the shutter, as camera rays arrive
+    ray.time = time;
     PhotonPath path = PhotonPath::Direct;
     for (int bounces = 0;; ++bounces) {
         // Lights are not in the BVH: a photon that meets one's surface ends there, as a path does.

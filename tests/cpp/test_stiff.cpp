@@ -126,7 +126,7 @@ TEST(Stiff, LightSamplesFromOnOrInsideTheLightAreFinite) {
                 float pdf = light->pdf(p, ls.wi, ls.distance, 0);
                 ASSERT_TRUE(std::isfinite(pdf) && pdf >= 0) << d.kind;
             }
-        auto emission = light->emit(Vec2(0.3f, 0.7f), Vec2(0.5f, 0.5f), bounds);
+        auto emission = light->emit(Vec2(0.3f, 0.7f), Vec2(0.5f, 0.5f), bounds, 0.5f);
         EXPECT_TRUE(finiteNonNegative(emission.power) && isFinite(emission.ray.o) && isFinite(emission.ray.d)) << d.kind;
     }
 }
