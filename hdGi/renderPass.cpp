@@ -9,6 +9,7 @@
 #include "products.h"
 #include "renderBuffer.h"
 #include "renderSettings.h"
+#include "renderer/render_vars.h"
 
 PXR_NAMESPACE_OPEN_SCOPE
 
@@ -150,11 +151,11 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
         for (std::string const& problem : problems) _param->Warn(problem);
     }
     // The frame the host renders (usdrecord's time code, through the scene globals' currentFrame):
-    // it names the products' files, so a new frame writes them again even where nothing moved.
+    // it seeds the render as `gi render --frames` does and names the products' files, so a new
+    // frame renders (and writes them) again even where nothing moved.
     std::optional<double> frame;
     double currentFrame = 0;
-    if (!products.empty() && HdUtils::GetCurrentFrame(GetRenderIndex()->GetTerminalSceneIndex(), &currentFrame))
-        frame = currentFrame;
+    if (HdUtils::GetCurrentFrame(GetRenderIndex()->GetTerminalSceneIndex(), &currentFrame)) frame = currentFrame;
     if (dataWindow != _dataWindow || !(window == _window) || frame != _frame) restart = true;
     HdRenderPassAovBindingVector aovs = state->GetAovBindings();
     for (HdRenderPassAovBinding& aov : aovs)
@@ -189,6 +190,7 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
 
     HdGiRenderJob job;
     job.settings = HdGiReadSettings(*delegate);
+    if (frame) job.settings.seed = gi::frameSeed(job.settings.seed, *frame);
     job.settings.framing = framing;
     job.settings.window = window;
     job.frame = frame;

@@ -1,6 +1,8 @@
 #include "render_vars.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <regex>
@@ -108,6 +110,13 @@ std::string renderVarLayer(const std::string& varName, RenderOutput output, bool
 std::string channelName(const std::string& layer, const std::string& suffix) {
     if (layer.empty()) return suffix;
     return suffix.empty() ? layer : layer + "." + suffix;
+}
+
+uint32_t frameSeed(uint32_t seed, double frame) {
+    if (!std::isfinite(frame)) return seed;
+    // Whole frames wrap modulo 2^32 (negative frames too); beyond 2^62 a double has no fraction.
+    double const whole = std::round(std::clamp(frame, -0x1p62, 0x1p62));
+    return seed + uint32_t(uint64_t(int64_t(whole)));
 }
 
 std::string substituteFrame(const std::string& path, int frame) {

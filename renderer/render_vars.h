@@ -2,6 +2,7 @@
 // products): which renderer output a var's sourceName names, how its dataType stores it (channel
 // suffixes, half or float), the var's layer name in the EXR, and a productName's frame tokens.
 #pragma once
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,5 +37,11 @@ std::string channelName(const std::string& layer, const std::string& suffix);
 // `$F` not padded.
 std::string substituteFrame(const std::string& path, int frame);
 bool hasFrameToken(const std::string& path);
+
+// The seed frame `frame` renders with, in both hosts: seed + frame (mod 2^32), the frame rounded to
+// a whole number as file names are. The sampler hashes the seed, so neighbouring frames' noise is
+// decorrelated, and a frame renders alone as in a sequence, a farm chunk or usdrecord's --frames.
+// A frame that is no number (USD's default time) keeps the seed.
+uint32_t frameSeed(uint32_t seed, double frame);
 
 }  // namespace gi

@@ -67,10 +67,11 @@ def frame_path(path, frame):
 
 
 def frame_seed(seed, frame):
-    """The seed frame `frame` renders with: seed + frame (mod 2^32). The sampler hashes the seed,
-    so neighbouring frames' noise is decorrelated, and any frame renders alone the same as in a
-    sequence or a farm chunk."""
-    return (seed + frame) % (1 << 32)
+    """The seed frame `frame` renders with: seed + frame (mod 2^32), hdGi's rule too
+    (renderer/render_vars.h), so any frame renders alone the same as in a sequence, a farm chunk or
+    usdrecord --frames."""
+    from .render import require_core
+    return require_core().frame_seed(int(seed) % (1 << 32), float(frame))
 
 
 def authored_time_range(stage):

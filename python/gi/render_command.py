@@ -141,7 +141,8 @@ def cmd_render(args, flags, parser):
                 if message not in warned:
                     warned.add(message)
                     warn(message)
-            seed = args.seed if frame.number is None else frame_seed(args.seed, frame.number)
+            # Seeded by the frame its files are named by (without --frames, the time rendered).
+            seed = frame_seed(args.seed, name_number(frame.number, sequence))
             for t, target in enumerate(targets):
                 settings = render_settings(frame.loaded, args.integrator, params, args.spp, seed, args.threads,
                                            args.time_limit,

@@ -590,6 +590,8 @@ void bindRendering(nb::module_& m) {
     m.def("frame_path", &substituteFrame, "path"_a, "frame"_a,
           "`path` with $F, $F<width> and #### replaced by `frame` (zero-padded to the width).");
     m.def("has_frame_token", &hasFrameToken, "path"_a);
+    m.def("frame_seed", &frameSeed, "seed"_a, "frame"_a,
+          "The seed frame `frame` renders with: seed + frame (mod 2^32), the frame rounded (renderer/render_vars.h).");
     m.def(
         "data_window_pixels",
         [](std::tuple<float, float, float, float> ndc, int width, int height) {

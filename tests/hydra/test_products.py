@@ -134,9 +134,8 @@ def test_usdrecord_frames_write_one_file_per_frame_named_by_the_frame_tokens(tmp
     """usdrecord --frames 1:3 sets the scene globals' current frame, which names each frame's files
     (#### and $F4 zero-padded, $F not), and each equals `gi render --frames` of that frame bit for
     bit. Frame 3 shows what frame 2 does (the sphere's last sample), so nothing in the scene
-    changes: its files are written all the same. `gi render` seeds frame f with seed + f
-    (gi.frames.frame_seed), hdGi with gi:seed alone: so hdGi renders with seed 3, and `gi render`
-    frame f with --seed 3 - f."""
+    changes: its files are written all the same. Both hosts seed frame f with seed + f
+    (renderer/render_vars.h's frameSeed), so both render with --seed 3."""
     names = ["beauty.####.exr", "beauty.$F4.exr", "beauty.$F.exr"]
     for host in ("hydra", "cli"):
         (tmp_path / host).mkdir()
@@ -150,7 +149,7 @@ def test_usdrecord_frames_write_one_file_per_frame_named_by_the_frame_tokens(tmp
     files = ["beauty.0001.exr", "beauty.0002.exr", "beauty.0003.exr", "beauty.1.exr", "beauty.2.exr", "beauty.3.exr"]
     assert written == files, written
     for frame in (1, 2, 3):
-        gi_render(cli_stage, "--frames", frame, "--seed", 3 - frame)
+        gi_render(cli_stage, "--frames", frame, "--seed", 3)
     frames = {}
     for name in files:
         hydra, meta = read(tmp_path / "hydra" / name)

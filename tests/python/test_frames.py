@@ -93,6 +93,20 @@ def test_frames_render_each_time_code_with_its_own_seed_and_name(tmp_path):
     run_gi("render", path, "--frames", "2", *common, "-o", tmp_path / "alone.exr")
     alone, _ = read(tmp_path / "alone.exr")
     assert np.array_equal(alone, images[2])
+    # Without --frames the time rendered is the earliest sample, frame 1, seeded as frame 1 is (and
+    # as usdrecord seeds the stage's start frame).
+    run_gi("render", path, *common, "-o", tmp_path / "no_frames.exr")
+    first, meta = read(tmp_path / "no_frames.exr")
+    assert meta["gi:seed"] == "6" and np.array_equal(first, images[1])
+
+
+def test_frame_seeds_are_seed_plus_the_whole_frame():
+    """One rule for both hosts (renderer/render_vars.h): hdGi seeds the host's current frame so."""
+    from gi.frames import frame_seed
+    assert [frame_seed(5, f) for f in (1, 2, 1001)] == [6, 7, 1006]
+    assert frame_seed(0, -3) == 2**32 - 3 and frame_seed(2**32 - 1, 2) == 1  # modulo 2^32
+    assert frame_seed(5, 2.4) == 7 and frame_seed(5, 2.6) == 8  # rounded, as file names are
+    assert frame_seed(5, float("nan")) == 5  # USD's default time: no frame
 
 
 def test_frames_of_a_still_stage_have_decorrelated_noise(tmp_path):
