@@ -123,6 +123,9 @@ def add_render_parser(commands, flags):
     render.add_argument("--complexity", default=DEFAULT_COMPLEXITY, choices=list(COMPLEXITY_REFINE_LEVELS),
                         help="subdivision meshes refined 0, 1, 2 or 3 times with OpenSubdiv, as usdrecord's "
                              f"--complexity (default {DEFAULT_COMPLEXITY}, as usdrecord's: the control cage)")
+    render.add_argument("--purposes", metavar="PURPOSE[,PURPOSE...]", type=purpose_list,
+                        help="purposes rendered besides default, as usdrecord's --purposes (default: the render "
+                             "settings' includedPurposes, else render; usdrecord's default is proxy)")
     render.add_argument("--settings", metavar="PRIM",
                         help="the RenderSettings prim whose RenderProducts are written when -o is not given "
                              "(default: the stage's renderSettingsPrimPath, else the first)")
@@ -202,6 +205,11 @@ def tiling_spec(text):
         return parse_tile(text, with_index=False)
     except ValueError as error:
         raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def purpose_list(text):
+    """usdrecord's --purposes: names separated by commas and/or spaces."""
+    return text.replace(",", " ").split()
 
 
 def comma_list(text):

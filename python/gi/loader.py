@@ -19,7 +19,9 @@ from .lights import is_light, light_desc
 from .materials import UNREADABLE, MaterialLibrary, error_text
 
 DEFAULT_RESOLUTION = (512, 512)
+# UsdRenderSettings' includedPurposes fallback: what a final frame shows when nothing says otherwise.
 RENDERED_PURPOSES = (UsdGeom.Tokens.default_, UsdGeom.Tokens.render)
+PURPOSES = (UsdGeom.Tokens.default_, UsdGeom.Tokens.render, UsdGeom.Tokens.proxy, UsdGeom.Tokens.guide)
 POINT_INSTANCER_LIGHTS = "lights in point-instancer prototypes are not supported; ignored"
 
 
@@ -100,8 +102,9 @@ def open_stage(path, allow_missing=False):
 class StageLoader(motion.MotionSampling):
     """One pass over a stage, adding what it finds to `scene`."""
 
-    def __init__(self, stage, scene, time, file, refine_level=0, shutter=None):
+    def __init__(self, stage, scene, time, file, refine_level=0, shutter=None, purposes=RENDERED_PURPOSES):
         self.stage, self.scene, self.time, self.file = stage, scene, time, file
+        self.purposes = tuple(purposes)
         self.refine_level = refine_level
         self.shutter = shutter  # motion.Shutter: moving prims are sampled over it
         self.xforms = UsdGeom.XformCache(time)
@@ -120,13 +123,13 @@ class StageLoader(motion.MotionSampling):
         return self.xforms.GetLocalToWorldTransform(prim)
 
     def is_rendered(self, prim):
-        """Visible (inherited visibility) and of the default or render purpose."""
+        """Visible (inherited visibility) and of a purpose rendered (included_purposes)."""
         imageable = UsdGeom.Imageable(prim)
         if not imageable:
             return True
         if imageable.ComputeVisibility(self.time) == UsdGeom.Tokens.invisible:
             return False
-        return imageable.ComputePurpose() in RENDERED_PURPOSES
+        return imageable.ComputePurpose() in self.purposes
 
     # -- traversal -------------------------------------------------------------------------------
     def load(self):
@@ -483,12 +486,36 @@ def camera_desc(prim, world, time):
     return desc
 
 
-def framing_camera(stage, time):
+def included_purposes(settings, requested, warn):
+    """The purposes rendered, `default` always among them: `requested` (gi render --purposes, the
+    extra purposes as usdrecord's flag names them), else the render settings' includedPurposes, else
+    default and render (that attribute's fallback). An unknown purpose warns and is left out."""
+    where = "--purposes"
+    if requested is None and settings is not None:
+        attribute = settings.GetIncludedPurposesAttr()
+        if attribute.HasAuthoredValue():
+            try:
+                requested, where = list(attribute.Get() or []), str(settings.GetPath())
+            except UNREADABLE as error:
+                warn(str(settings.GetPath()), f"includedPurposes could not be read ({error_text(error)}); "
+                                              f"rendering the default and render purposes")
+    if requested is None:
+        return RENDERED_PURPOSES
+    purposes = [UsdGeom.Tokens.default_]
+    for purpose in requested:
+        if purpose not in PURPOSES:
+            warn(where, f"unknown purpose {purpose!r} (known: {', '.join(PURPOSES)}); ignored")
+        elif purpose not in purposes:
+            purposes.append(purpose)
+    return tuple(purposes)
+
+
+def framing_camera(stage, time, purposes=RENDERED_PURPOSES):
     """The camera that frames a stage with no camera of its own: usdrecord's (gi._core.framing_camera,
     renderer/camera_framing.h), on the bounding box of what `gi` renders, measured as usdrecord
     measures it (UsdGeomBBoxCache with extents hints, its centroid and aligned size), and the stage's
     up axis. Without the compiled core nothing renders, so a stand-in is returned."""
-    cache = UsdGeom.BBoxCache(time, list(RENDERED_PURPOSES), useExtentsHint=True)
+    cache = UsdGeom.BBoxCache(time, list(purposes), useExtentsHint=True)
     try:
         box = cache.ComputeWorldBound(stage.GetPseudoRoot())
         center, size = box.ComputeCentroid(), box.ComputeAlignedRange().GetSize()
@@ -521,7 +548,7 @@ def camera_at(stage, camera_path, time):
 
 
 def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missing=False,
-               refine_level=0) -> LoadedScene:
+               refine_level=0, purposes=None) -> LoadedScene:
     """Loads the USD file `path` into `scene` (a new gi._core.Scene if None).
 
     camera: a camera prim path overriding the render settings' camera.
@@ -531,6 +558,8 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
     is a warning) instead of raising SceneError naming them.
     refine_level: how many times subdivision meshes are refined (0: their control cage; see
     render.COMPLEXITY_REFINE_LEVELS).
+    purposes: the purposes rendered besides default (None: the render settings' includedPurposes,
+    else render; see included_purposes).
     Raises SceneError naming the file when it is missing or not USD."""
     file = str(path)
     stage = stage if stage is not None else open_stage(file, allow_missing)
@@ -546,7 +575,9 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
             shutter = motion.camera_shutter(prim, settings, time, motion.frame_time(stage, time))
         except UNREADABLE:  # reported with the rest of the camera below
             pass
-    loader = StageLoader(stage, scene, time, file, refine_level, shutter)
+    purposes = included_purposes(settings, purposes, lambda where, message: early_warnings.append(
+        f"{file}: {where}: {message}"))
+    loader = StageLoader(stage, scene, time, file, refine_level, shutter, purposes)
     loader.warnings += early_warnings
     for message in missing_layers(stage):
         loader.warn("/", f"not found, rendered without it: {message}")
@@ -581,7 +612,7 @@ def load_stage(path, scene=None, camera=None, time=None, stage=None, allow_missi
     else:
         if prim is None:
             loader.warn("/", "no camera in the stage; using one that frames the whole scene, as usdrecord does")
-        scene.set_camera(framing_camera(stage, time))
+        scene.set_camera(framing_camera(stage, time, purposes))
         camera_path = ""
 
     counts = dict(loader.counts, materials=loader.materials.added)

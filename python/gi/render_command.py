@@ -116,7 +116,7 @@ def cmd_render(args, flags, parser):
     from .tiles import tile_window, why_tiles_differ
     frames = args.frames or [None]
     sequence = Sequence(args.scene, frames, camera=args.camera, allow_missing=args.allow_missing,
-                        refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity])
+                        refine_level=COMPLEXITY_REFINE_LEVELS[args.complexity], purposes=args.purposes)
     for message in sequence.warnings:
         warn(message)
     stage_params = apply_stage_settings(args, sequence)

@@ -35,11 +35,11 @@ class Frame:
 
 class Sequence:
     def __init__(self, scene_path, frames, camera=None, time_range_flag="--frames", allow_missing=False,
-                 refine_level=0):
-        """frames: frame numbers, or [None] for the earliest time; allow_missing, refine_level: as
-        load_stage's."""
+                 refine_level=0, purposes=None):
+        """frames: frame numbers, or [None] for the earliest time; allow_missing, refine_level,
+        purposes: as load_stage's."""
         self.path, self.frames, self.requested_camera = str(scene_path), list(frames), camera
-        self.refine_level = refine_level
+        self.refine_level, self.purposes = refine_level, purposes
         self.stage = open_stage(self.path, allow_missing)
         self.warnings = []
         self.time_range = authored_time_range(self.stage)
@@ -65,7 +65,7 @@ class Sequence:
         for number in self.frames:
             if first is None:
                 first = load_stage(self.path, camera=self.requested_camera, time=number, stage=self.stage,
-                                   refine_level=self.refine_level)
+                                   refine_level=self.refine_level, purposes=self.purposes)
                 if self.time_range is None:
                     self.reuse = "static"
                 elif only_camera_moves(self.stage, first.camera_path):
@@ -83,7 +83,7 @@ class Sequence:
                 if STATIC_BVH_TRACE_COST * render_seconds < first.scene.stats().get("build_seconds", 0):
                     scene.reuse_bvh_of((previous or first).scene)
                 previous = load_stage(self.path, scene, camera=self.requested_camera, time=number,
-                                      stage=self.stage, refine_level=self.refine_level)
+                                      stage=self.stage, refine_level=self.refine_level, purposes=self.purposes)
                 start = time.perf_counter()
                 yield Frame(number, previous)
                 render_seconds = time.perf_counter() - start

@@ -653,3 +653,48 @@ def test_integrator_flag_out_of_range_is_a_usage_error():
     parser, flags = flag_parser()
     with pytest.raises(SystemExit):
         flags.chosen(parser.parse_args(["--path-depth", "5000"]), parser)
+
+
+def purposes_stage(tmp_path, included=None):
+    """A sphere of each purpose (default, render, proxy, guide) under one parent; `included`: the
+    render settings' includedPurposes, if authored."""
+    from pxr import UsdRender
+    stage, path = new_stage(tmp_path)
+    for purpose in ("default", "render", "proxy", "guide"):
+        UsdGeom.Sphere.Define(stage, f"/Geo/{purpose}").CreatePurposeAttr(purpose)
+    settings = UsdRender.Settings.Define(stage, "/Render/Settings")
+    if included is not None:
+        settings.CreateIncludedPurposesAttr(included)
+    stage.SetMetadata("renderSettingsPrimPath", "/Render/Settings")
+    stage.Save()
+    return path
+
+
+@pytest.mark.parametrize("included, requested, expected", [
+    (None, None, {"default", "render"}),                # includedPurposes' fallback
+    (["default", "proxy"], None, {"default", "proxy"}),  # the render settings say
+    (["proxy"], None, {"default", "proxy"}),             # default is always rendered
+    (["default", "proxy"], ["guide"], {"default", "guide"}),  # --purposes wins, as usdrecord's flag
+    (None, ["proxy", "render"], {"default", "proxy", "render"}),
+])
+def test_purposes_rendered(tmp_path, fake_scene, included, requested, expected):
+    path = purposes_stage(tmp_path, included)
+    load_stage(str(path), fake_scene, purposes=requested)
+    assert {s.name.rsplit("/", 1)[-1] for s in fake_scene.spheres} == expected
+
+
+def test_an_unknown_purpose_warns_naming_where_it_was_given(tmp_path, fake_scene):
+    path = purposes_stage(tmp_path, ["default", "proxie"])
+    loaded = load_stage(str(path), fake_scene)
+    assert any("/Render/Settings" in w and "'proxie'" in w for w in loaded.warnings), loaded.warnings
+    assert {s.name.rsplit("/", 1)[-1] for s in fake_scene.spheres} == {"default"}
+    loaded = load_stage(str(path), type(fake_scene)(), purposes=["prox"])
+    assert any("--purposes" in w and "'prox'" in w for w in loaded.warnings), loaded.warnings
+
+
+def test_gi_render_takes_usdrecords_purposes_flag(tmp_path):
+    from conftest import run_gi
+    path = purposes_stage(tmp_path)
+    proc = run_gi("render", path, "--purposes", "proxy,guide", "--spp", 1, "--resolution", 8, 8,
+                  "-o", tmp_path / "out.exr", "--no-png")
+    assert proc.returncode == 0
