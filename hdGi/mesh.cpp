@@ -119,6 +119,7 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
         _pieces.clear();
         for (HdGiTriangleMesh& m : pieces.pieces) _pieces.push_back(std::make_shared<const HdGiTriangleMesh>(std::move(m)));
         _pieceMaterials = pieces.materials;
+        _pieceNames = pieces.names;
         changed = true;
     }
 
@@ -126,6 +127,7 @@ void HdGiMesh::Sync(HdSceneDelegate* delegate, HdRenderParam* renderParam, HdDir
         auto g = std::make_shared<HdGiGeometry>();
         g->pieces = _pieces;
         g->pieceMaterials = _pieceMaterials;
+        g->pieceNames = _pieceNames;
         _state.Publish(*this, param, std::move(g));
     }
     *dirtyBits &= ~(HdChangeTracker::AllSceneDirtyBits | HdGiDirtyUvPrimvar | HdGiDirtyShutter);

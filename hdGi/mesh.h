@@ -27,6 +27,7 @@ private:
     HdGiGprimState _state;
     std::vector<std::shared_ptr<const HdGiTriangleMesh>> _pieces;
     std::vector<SdfPath> _pieceMaterials;
+    std::vector<std::string> _pieceNames;
 };
 
 PXR_NAMESPACE_CLOSE_SCOPE

@@ -104,10 +104,12 @@ HdGiMeshPieces HdGiTriangulate(SdfPath const& id, HdGiMeshInput const& in) {
     // GeomSubset pieces: piece 0 keeps the mesh's own binding, piece i + 1 is face set i's.
     std::vector<gi::FaceSubset> subsets;
     out.materials.assign(1, SdfPath());
+    out.names.assign(1, id.GetString());
     for (HdGeomSubset const& subset : topology.GetGeomSubsets()) {
         if (subset.type != HdGeomSubset::TypeFaceSet) continue;
         subsets.push_back({subset.id.GetString(), ToInts(subset.indices)});
         out.materials.push_back(subset.materialId);
+        out.names.push_back(subset.id.GetString());
     }
     // Hydra does not carry the subsets' family type: no "partition" check here.
     gi::SubsetFaces faces = gi::assignSubsetFaces(d.faceVertexCounts.size(), subsets, "", id.GetString());

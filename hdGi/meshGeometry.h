@@ -34,6 +34,7 @@ struct HdGiMeshInput {
 struct HdGiMeshPieces {
     std::vector<HdGiTriangleMesh> pieces;
     std::vector<SdfPath> materials;  // per piece; empty = the mesh's own binding
+    std::vector<std::string> names;  // per piece: the mesh's path, then each subset's (as `gi render` names them)
     std::vector<std::string> warnings;
     bool refined = false;
 };

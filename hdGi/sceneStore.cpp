@@ -145,7 +145,7 @@ std::vector<int> AddShapes(gi::Scene& scene, HdGiGeometry const& g, MaterialBind
         HdGiTriangleMesh const& m = *g.pieces[i];
         if (m.indices.empty()) continue;
         SdfPath material = i < g.pieceMaterials.size() ? g.pieceMaterials[i] : SdfPath();
-        std::string name = g.pieces.size() > 1 && !material.IsEmpty() ? g.name + " (" + material.GetString() + ")" : g.name;
+        std::string const& name = i < g.pieceNames.size() ? g.pieceNames[i] : g.name;
         shapes.push_back(scene.addMesh(name, m.points, m.indices, m.normals, m.uvs, binder.Bind(g, material), &transform,
                                        g.doubleSided, prototype, MotionOf(g, &m, prototype, shutter)));
     }

@@ -34,9 +34,12 @@ struct HdGiGeometry {
     bool isSphere = false;
     float radius = 0;  // spheres
     // Meshes: one piece per material (the prim's own, then each GeomSubset's); an empty
-    // material path means the prim's binding.
+    // material path means the prim's binding. Each piece is named by its prim's path (the mesh's,
+    // else the subset's), as `gi render` names it: the renderer orders emissive pieces' lights by
+    // name, so both hosts pick the same light for the same sample.
     std::vector<std::shared_ptr<const HdGiTriangleMesh>> pieces;
     std::vector<SdfPath> pieceMaterials;
+    std::vector<std::string> pieceNames;
     GfMatrix4d transform{1.0};
     // Transform motion over the shutter (SampleTransform): times relative to the frame, with the
     // shutter's boundaries among them. Fewer than two: the transform does not move.

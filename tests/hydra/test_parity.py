@@ -19,6 +19,7 @@ STAGES = [("holes", "low"), ("left_handed", "low"), ("face_varying_normals", "lo
           ("subdivision", "low"), ("subdivision", "high"), ("subdivision_creases_corners", "veryhigh"),
           ("texture_st0", "low"), ("texture_varname", "low"), ("texture_missing", "low"),
           ("display_color", "low"), ("display_color_inherited", "low"), ("geom_subsets", "low"),
+          ("emissive_subsets", "low"),
           ("instanced_materials", "low"), ("camera_offsets", "low"), ("preview_surface_defaults", "low")]
 SPP, SEED, WIDTH = 16, 0, 240
 # usdrecord's image height: the width over the camera's aperture aspect, truncated (frameRecorder.cpp);

@@ -266,6 +266,17 @@ def test_geom_subsets_bind_their_materials(tmp_path):
     assert area(color.sum(axis=-1)) == pytest.approx(3 * 0.6, abs=1e-4)
 
 
+def test_emissive_subsets_light_the_floor_each_with_its_material(tmp_path):
+    """The warm subset (A, bound to Looks/Y) hangs beside the view's left edge, the cool one (B,
+    Looks/X) beside its right: the floor's left edge is lit warm (red over blue about 2, less the
+    far lamp's share), its right edge cool; both are sampled as lights (4 emissive triangles).
+    tests/hydra/test_parity.py checks that usdrecord picks the same lamp for the same sample."""
+    color = rgb(render(tmp_path, "emissive_subsets"))
+    left, right = region(color, -1.2, -1.0, -0.1, 0.1).mean(axis=(0, 1)), region(color, 1.0, 1.2, -0.1, 0.1).mean(axis=(0, 1))
+    assert left[0] > 1.5 * left[2] and right[2] > 1.5 * right[0], (left, right)
+    assert np.isfinite(color).all()
+
+
 def test_instances_keep_their_prototypes_materials(tmp_path):
     """Each tile shows its prototype's own material; nothing of the abstract /Prototypes is drawn."""
     color = rgb(render(tmp_path, "instanced_materials"))
