@@ -141,8 +141,9 @@ def cmd_render(args, flags, parser):
                 if message not in warned:
                     warned.add(message)
                     warn(message)
-            # Seeded by the frame its files are named by (without --frames, the time rendered).
-            seed = frame_seed(args.seed, name_number(frame.number, sequence))
+            # Frame F renders with seed + F; without --frames, F is the stage's start time code, the
+            # frame usdrecord renders then (0 where none is authored).
+            seed = frame_seed(args.seed, frame.number if frame.number is not None else sequence.stage.GetStartTimeCode())
             for t, target in enumerate(targets):
                 settings = render_settings(frame.loaded, args.integrator, params, args.spp, seed, args.threads,
                                            args.time_limit,

@@ -93,10 +93,18 @@ def test_frames_render_each_time_code_with_its_own_seed_and_name(tmp_path):
     run_gi("render", path, "--frames", "2", *common, "-o", tmp_path / "alone.exr")
     alone, _ = read(tmp_path / "alone.exr")
     assert np.array_equal(alone, images[2])
-    # Without --frames the time rendered is the earliest sample, frame 1, seeded as frame 1 is (and
-    # as usdrecord seeds the stage's start frame).
+    # Without --frames the stage is read at its earliest sample (the ball as on frame 1) and seeded
+    # by its start time code, as usdrecord renders and hdGi seeds it: 0 when none is authored, else
+    # that frame's seed, the image then frame 1's bit for bit.
     run_gi("render", path, *common, "-o", tmp_path / "no_frames.exr")
     first, meta = read(tmp_path / "no_frames.exr")
+    assert meta["gi:seed"] == "5" and not np.array_equal(first, images[1])
+    from pxr import Usd
+    stage = Usd.Stage.Open(str(path))
+    stage.SetStartTimeCode(1)
+    stage.Save()
+    run_gi("render", path, *common, "-o", tmp_path / "start_1.exr")
+    first, meta = read(tmp_path / "start_1.exr")
     assert meta["gi:seed"] == "6" and np.array_equal(first, images[1])
 
 
