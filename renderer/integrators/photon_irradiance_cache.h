@@ -4,8 +4,9 @@
 // (irradiance_cache.h, Tabellion-Lamorlette weights) whose records are the global photon
 // map's irradiance estimate: "the photon map is used in place of the irradiance cache, and
 // only where there are not enough photons to estimate the irradiance is it computed, by path
-// tracing" (2.4.7). A record needs at least half of gatherPhotons within maxGatherRadius;
-// elsewhere it is a path-traced record (paths, pathDepth; path_traced_record.h).
+// tracing" (2.4.7). A record needs at least half of gatherPhotons within maxGatherRadius, and
+// the photons must cover their disc (no edge, corner or thin column under it: the estimate would
+// read dark); elsewhere it is a path-traced record (paths, pathDepth; path_traced_record.h).
 //
 // The global map holds only photons that have bounced off a non-specular surface: direct
 // light comes from light sampling and caustics from the caustic map, so path-traced records

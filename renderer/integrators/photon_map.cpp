@@ -53,12 +53,22 @@ PhotonEstimate PhotonMap::estimate(const PhotonLookup& at, int k, float maxRadiu
     if (!(radius2 > 0)) return e;  // k photons on one spot: no area to divide by
     const float lift = 0.05f * std::sqrt(radius2);
     Color sum(0.0f);
+    const Frame tangent(at.n);
+    double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;  // the photons' places in the tangent plane
     for (size_t i = first; i < found.size(); ++i) {
         const Photon& photon = tree_[found[i].index];
         if (!reaches(photon, at, lift)) continue;
         float filter = coneFilter > 0 ? 1 - std::sqrt(found[i].distance2 / radius2) / coneFilter : 1.0f;
         sum += weight(photon) * std::max(0.0f, filter);
         e.photons++;
+        Vec3 d = tangent.toLocal(photon.p - at.p);
+        sx += d.x, sy += d.y, sxx += double(d.x) * d.x, syy += double(d.y) * d.y, sxy += double(d.x) * d.y;
+    }
+    if (e.photons > 1) {
+        double n = e.photons, mx = sx / n, my = sy / n;
+        double cxx = sxx / n - mx * mx, cyy = syy / n - my * my, cxy = sxy / n - mx * my;
+        double smaller = 0.5 * (cxx + cyy) - std::sqrt(0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy);
+        e.coverage = float(std::max(0.0, smaller) * 4 / radius2);
     }
     // A uniform density over the disc averages a cone's weight to 1 - 2 / (3 k).
     float normalisation = coneFilter > 0 ? 1 - 2 / (3 * coneFilter) : 1.0f;

@@ -44,6 +44,11 @@ struct PhotonEstimate {
     Color value{0.0f};
     int photons = 0;   // photons the estimate used
     float radius = 0;  // of the disc it covered (maxRadius when fewer than k were found)
+    // How much of the disc the photons' surface covers: the smaller variance of their places in
+    // the tangent plane (about their mean) over a full disc's, r^2 / 4. About 1 where the surface
+    // fills the disc; a strip of width w across it gives w^2 / 3r^2, a half disc (an edge, a
+    // corner) 0.28: there the estimate, which divides by the whole disc's area, reads dark.
+    float coverage = 0;
 };
 
 // Where light is wanted: a point, the unit normal on the side it is wanted, its surface, and
