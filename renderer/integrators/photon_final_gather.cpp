@@ -111,7 +111,7 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
             } else {
                 // No precomputed photon near enough where photons are sparse (4 times sparser
                 // than the global map's): the global map's own estimate, rather than darkness.
-                E = maps_.global.irradiance(at, settings_.photons.gatherPhotons, maps_.gatherRadius).value;
+                E = maps_.global.irradiance(at, settings_.photons.gatherPhotons, maps_.gatherRadius).coverageCorrected();
                 fallbackLookups_.fetch_add(1, std::memory_order_relaxed);
             }
             L += weight * reflectance * E * kInvPi;

@@ -42,7 +42,8 @@ std::vector<Photon> irradiancePhotons(const PreprocessContext& context, const Ph
         tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 256), [&](const tbb::blocked_range<size_t>& r) {
             for (size_t i = r.begin(); i < r.end(); ++i) {
                 Photon photon = global.tree()[uint32_t(i * stride)];
-                photon.power = global.irradiance(PhotonLookup{photon.p, photon.n(), photon.surface, &scene}, k, maxRadius).value;
+                PhotonEstimate e = global.irradiance(PhotonLookup{photon.p, photon.n(), photon.surface, &scene}, k, maxRadius);
+                photon.power = e.coverageCorrected();
                 result[i] = photon;
             }
         });

@@ -79,7 +79,8 @@ Color ProgressivePhotonMapIntegrator::indirect(const Scene& scene, const Shading
     if (iteration >= maps_.size() || maps_[iteration].empty()) return Color(0.0f);
     float radius = settings_.initialRadius * footprint_.at(sp.si.p) * radiusScales_[iteration];
     lookups_.fetch_add(1, std::memory_order_relaxed);
-    return maps_[iteration].radiance(sp, scene, kMaxLookupPhotons, radius).value;
+    PhotonEstimate e = maps_[iteration].radiance(sp, scene, kMaxLookupPhotons, radius);
+    return e.coverageCorrected();
 }
 
 std::map<std::string, double> ProgressivePhotonMapIntegrator::statistics() const {

@@ -253,6 +253,32 @@ TEST(PhotonMapEstimate, CoverageTellsAFullDiscFromAnEdgeOrAStrip) {
     EXPECT_LT(E, 0.6);
 }
 
+TEST(PhotonMapEstimate, CoverageCorrectionReadsTheSurfacesDensity) {
+    // The sheet, the half sheet and the strip of the test above, irradiance 1 wherever there are
+    // photons: corrected, the strip reads ~1 (its share, 0.51, is the strip rule's), the edge
+    // 0.86 instead of 0.5 (the rule's 0.58 for a half disc's 0.5), and the full sheet stays 1
+    // (within 1%: corrected only below the 1st percentile of a full disc's coverage).
+    std::vector<Photon> sheet = photonSheet(200000, 0, Vec3(0, 0, 1), 4, 8), half, strip;
+    for (const Photon& p : sheet) {
+        if (p.p.x < 0) half.push_back(p);
+        if (std::fabs(p.p.x) < 0.01f) strip.push_back(p);
+    }
+    auto corrected = [](const std::vector<Photon>& photons, int k) {
+        PhotonMap map;
+        map.build(photons);
+        double sum = 0;
+        const int queries = 400;
+        for (int i = 0; i < queries; ++i)
+            sum += map.irradiance({Vec3(0, -0.8f + 1.6f * float(i) / queries, 0), Vec3(0, 0, 1)}, k, 1).coverageCorrected().x;
+        return sum / queries;
+    };
+    for (int k : {50, 100}) {
+        EXPECT_NEAR(corrected(sheet, k), 1.0, 0.01) << k;
+        EXPECT_NEAR(corrected(strip, k), 1.0, 0.1) << k;
+        EXPECT_NEAR(corrected(half, k), 0.86, 0.06) << k;
+    }
+}
+
 TEST(PhotonMapEstimate, PhotonsOnTheOtherSideOfAThinWallDoNotCount) {
     // A wall 1 mm thick: the lit face at z = +0.0005 (normal +z) holds every photon; a query
     // on the dark face at z = -0.0005 looks along -z. A spherical search of any radius
