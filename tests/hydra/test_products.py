@@ -164,10 +164,13 @@ def test_usdrecord_frames_write_one_file_per_frame_named_by_the_frame_tokens(tmp
 
 def test_usdrecord_frames_of_a_still_scene_write_every_frame(tmp_path):
     """Nothing on the stage varies in time, so no prim changes between frames: each frame's file is
-    written all the same (the frame restarts the render), the same image."""
+    written all the same (the frame restarts the render), seeded seed + frame as `gi render --frames`
+    seeds it, so the two frames differ only in their noise."""
     stage = product_stage(tmp_path / "stage.usda", [tmp_path / "still.$F.exr"], resolution=(32, 32))
     usdrecord(stage, tmp_path / "usdrecord.#.exr", "--frames", "1:2")
     first, first_meta = read(tmp_path / "still.1.exr")
     second, second_meta = read(tmp_path / "still.2.exr")
     assert (first_meta["gi:frame"], second_meta["gi:frame"]) == ("1", "2")
-    assert np.array_equal(first, second)
+    assert (first_meta["gi:seed"], second_meta["gi:seed"]) == (str(SEED + 1), str(SEED + 2))
+    assert not np.array_equal(first, second)
+    assert abs(first[..., :3].mean() / second[..., :3].mean() - 1) < 0.2  # the same scene
