@@ -46,6 +46,13 @@ def test_usdrecord_and_gi_render_agree(tmp_path, stage, complexity, integrator="
     assert np.array_equal(hydra, cli)
 
 
+@pytest.mark.parametrize("stage", ["emissive_instances", "emissive_point_instances"])
+def test_emissive_instances_emit_their_photons_alike(tmp_path, stage):
+    """Twelve emissive lamp instances (native, or by a point instancer): the renderer orders
+    emissive instances by name, so both hosts must name them in the same order."""
+    test_usdrecord_and_gi_render_agree(tmp_path, stage, "low", "photonMapFinalGather")
+
+
 @pytest.mark.parametrize("integrator", ["photonMapFinalGather", "progressivePhotonMap"])
 def test_emissive_subsets_emit_their_photons_alike(tmp_path, integrator):
     """Photons leave the lights by index (the light BVH picks next-event lights by place, whatever

@@ -327,6 +327,20 @@ def test_point_instancer_adds_one_prototype_and_an_instance_each(tmp_path, fake_
     assert loaded.counts["instances"] == 3 and loaded.counts["prototypes"] == 1
 
 
+def test_point_instances_are_named_by_zero_padded_index(tmp_path, fake_scene):
+    """Names sort as the points do (the renderer orders emissive instances by name; hdGi pads
+    Hydra's instance index the same way): 12 points are [00] ... [11]."""
+    stage, path = new_stage(tmp_path)
+    instancer = UsdGeom.PointInstancer.Define(stage, "/Instancer")
+    define_mesh(stage, "/Instancer/Prototypes/Tile")
+    instancer.CreatePrototypesRel().SetTargets(["/Instancer/Prototypes/Tile"])
+    instancer.CreateProtoIndicesAttr([0] * 12)
+    instancer.CreatePositionsAttr([(3 * k, 0, 0) for k in range(12)])
+    load(stage, path, fake_scene)
+    names = [i.name for i in fake_scene.instances]
+    assert names == [f"/Instancer[{k:02d}]" for k in range(12)] and names == sorted(names)
+
+
 def test_point_instancer_honours_invisible_ids_and_bad_proto_indices(tmp_path, fake_scene):
     stage, path = new_stage(tmp_path)
     instancer = UsdGeom.PointInstancer.Define(stage, "/Instancer")

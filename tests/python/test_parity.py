@@ -277,6 +277,21 @@ def test_emissive_subsets_light_the_floor_each_with_its_material(tmp_path):
     assert np.isfinite(color).all()
 
 
+@pytest.mark.parametrize("stage", ["emissive_instances", "emissive_point_instances"])
+def test_emissive_instances_are_each_sampled_as_lights(tmp_path, stage):
+    """Twelve lamp instances (native, or by a point instancer), each two emissive triangles, are
+    24 lights, named so that they sort in the same order in both hosts (instances by path, points by
+    zero-padded index: tests/hydra/test_parity.py compares the two hosts' photon images)."""
+    from gi import _core
+    from gi.loader import load_stage
+    loaded = load_stage(str(stage_files.prepare(stage, tmp_path)))
+    assert loaded.counts["instances"] == 12
+    loaded.scene.commit()
+    assert loaded.scene.stats()["emissive_triangles"] == 24
+    color = rgb(render(tmp_path, stage))
+    assert np.isfinite(color).all() and color.mean() > 0
+
+
 def test_instances_keep_their_prototypes_materials(tmp_path):
     """Each tile shows its prototype's own material; nothing of the abstract /Prototypes is drawn."""
     color = rgb(render(tmp_path, "instanced_materials"))
