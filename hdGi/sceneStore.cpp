@@ -198,15 +198,11 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         std::vector<int> shapes = AddShapes(*scene, *g, binder, HdGiToMat4(g->transform), prototype, shutter);
         for (int shape : shapes) Record(map.shapePrimId, shape, g->primId);
         std::vector<gi::MotionSteps> const motion = InstanceMotionOf(*g, shutter);
-        // Named by index, zero-padded to the count's width: the renderer orders emissive instances
-        // by name, and so they keep Hydra's order (native instances by path, as `gi render` names
-        // them; a point instancer's by point, as `gi render` pads them too).
-        size_t const width = std::to_string(std::max<size_t>(g->instanceTransforms.size(), 1) - 1).size();
+        // Named by Hydra's index (Scene::indexedName): emissive instances keep Hydra's order, which is
+        // the native instances' path order (`gi render` names them by path) and the points' order.
         for (size_t i = 0; i < g->instanceTransforms.size(); ++i) {
-            std::string index = std::to_string(i);
-            index.insert(0, width - index.size(), '0');
-            int instance = scene->addInstance(prototype, HdGiToMat4(g->instanceTransforms[i]), g->name + "[" + index + "]",
-                                              motion[i]);
+            int instance = scene->addInstance(prototype, HdGiToMat4(g->instanceTransforms[i]),
+                                              gi::Scene::indexedName(g->name, i, g->instanceTransforms.size()), motion[i]);
             Record(map.instanceIndex, instance, int(i));
         }
     }

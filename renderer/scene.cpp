@@ -57,6 +57,13 @@ std::vector<int> orderedByName(size_t count, NameOf nameOf) {
 
 Scene::Scene() : device_(std::make_shared<EmbreeDevice>()) { device_->reporter = this; }
 
+std::string Scene::indexedName(const std::string& base, size_t index, size_t count) {
+    std::string digits = std::to_string(index);
+    const size_t width = std::to_string(std::max<size_t>(count, 1) - 1).size();
+    if (digits.size() < width) digits.insert(0, width - digits.size(), '0');
+    return base + "[" + digits + "]";
+}
+
 Scene::~Scene() {
     if (top_) rtcReleaseScene(top_);
     if (lightBvh_) rtcReleaseScene(lightBvh_);

@@ -78,6 +78,10 @@ public:
                   int prototype, const MotionSteps& motion = {});
     // motion.transforms only: the instance's transform over the shutter.
     int addInstance(int prototype, const Mat4& transform, const std::string& name, const MotionSteps& motion = {});
+    // The name of instance `index` of `count` that a host knows only by index (a point
+    // instancer's point, Hydra's instance of an rprim): base[index], zero-padded to the count's
+    // width, so that names sort as the indices do (the scene orders emissive instances by name).
+    static std::string indexedName(const std::string& base, size_t index, size_t count);
     int addLight(const LightDesc& desc);
     void setCamera(const CameraDesc& desc) { cameraDesc_ = desc; hasCamera_ = true; }
     // Frame sequences and interactive edits: this scene, built after `previous` (the last frame's or

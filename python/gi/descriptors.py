@@ -165,6 +165,16 @@ except ImportError:
     HAVE_CORE = False
 
 
+def indexed_name(base, index, count):
+    """The name of instance `index` of `count` known only by index (gi._core.indexed_name,
+    renderer/scene.h: zero-padded so that names sort as indices do); without the compiled core,
+    which renders nothing, base[index]."""
+    if not HAVE_CORE:
+        return f"{base}[{index}]"
+    from ._core import indexed_name as core_indexed_name
+    return core_indexed_name(base, index, count)
+
+
 def new_scene():
     """A gi._core.Scene; ImportError (saying so) when the core is not built."""
     if not HAVE_CORE:

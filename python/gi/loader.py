@@ -360,7 +360,6 @@ class StageLoader(motion.MotionSampling):
         shown = instancer.ComputeMaskAtTime(self.time) or [True] * len(proto_indices)  # invisible/inactive ids
         instancer_world = self.world(prim)
         step_local, step_worlds = self.instancer_motion(instancer, len(local))
-        width = len(str(max(len(proto_indices), 1) - 1))
         for i, (index, transform) in enumerate(zip(proto_indices, local)):
             if not shown[i]:
                 continue
@@ -374,9 +373,9 @@ class StageLoader(motion.MotionSampling):
             if step_local is not None:
                 steps = np.stack([matrix(root_local * step[i] * world) for step, world in zip(step_local, step_worlds)])
                 steps = steps if motion.moving(steps) else None
-            # Zero-padded to the count's width, as hdGi names instances: the renderer orders
-            # emissive instances by name, so both hosts keep the points' order.
-            self.add_instance(prototype, root_local * transform * instancer_world, f"{path}[{i:0{width}d}]", steps, prim)
+            # Named as hdGi names Hydra's instances (Scene::indexedName): emissive instances sort by point.
+            self.add_instance(prototype, root_local * transform * instancer_world,
+                              descriptors.indexed_name(path, i, len(proto_indices)), steps, prim)
 
     # -- lights ----------------------------------------------------------------------------------
     def add_light(self, prim, world):

@@ -590,6 +590,9 @@ void bindRendering(nb::module_& m) {
     m.def("frame_path", &substituteFrame, "path"_a, "frame"_a,
           "`path` with $F, $F<width> and #### replaced by `frame` (zero-padded to the width).");
     m.def("has_frame_token", &hasFrameToken, "path"_a);
+    m.def("indexed_name", &Scene::indexedName, "base"_a, "index"_a, "count"_a,
+          "base[index], zero-padded to the width of count - 1: an instance known only by its index, named so "
+          "that names sort as indices do (renderer/scene.h).");
     m.def("frame_seed", &frameSeed, "seed"_a, "frame"_a,
           "The seed frame `frame` renders with: seed + frame (mod 2^32), the frame rounded (renderer/render_vars.h).");
     m.def(
