@@ -5,6 +5,7 @@
 #include "path.h"
 
 #include "lighting.h"
+#include "photon_map.h"
 
 namespace gi {
 
@@ -38,7 +39,8 @@ Color PathIntegrator::Li(const Ray& ray, const Scene& scene, Sampler& sampler, R
     return L + sum / float(paths_);
 }
 
-Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler& sampler, RayStats& stats) const {
+Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler& sampler, RayStats& stats,
+                                   const CausticPhotons* caustics) const {
     Color L(0.0f), beta(1.0f);
     int vertices = 1, specularVertices = 0;
     for (;;) {
@@ -46,19 +48,27 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
         // direction and Russian roulette.
         Vec2 uLight = sampler.get2D(), uChoice = sampler.get2D();
         L += beta * sampleDirectLight(scene, sp, uLight, uChoice.x, stats, true);
+        if (caustics && sp.bsdf.hasNonDelta())
+            L += beta * caustics->map->radiance(sp, scene, caustics->photons, caustics->maxRadius, caustics->coneFilter)
+                            .value;
         BsdfSample bs = sp.bsdf.sample(sp.woLocal, uChoice.y, sampler.get2D());
         if (!bs.valid) break;
         if (bs.delta && depthLimitReached(specularVertices++, rayDepth_, stats)) break;
         beta *= bs.weight;
         if (!isFinite(beta) || isBlack(beta)) break;
+        // Every vertex before a specular bounce read the caustic map, so a light found through
+        // it is a caustic already counted there.
+        const bool lightsAreCaustics = caustics && bs.delta;
         Vec3 wi = sp.frame.toWorld(bs.wi);
         Ray next = spawnRay(sp.si, wi);
         Intersection hit = intersectVisible(scene, next, sampler, stats, false);
         if (hit.kind == Intersection::Kind::None) {
-            L += beta * escapedRadiance(scene, next, bs.pdf, bs.delta, false);
+            if (!lightsAreCaustics) L += beta * escapedRadiance(scene, next, bs.pdf, bs.delta, false);
             break;
         }
-        L += beta * emittedOnHit(scene, hit, next, sp.si.p, bs.pdf, bs.delta);
+        // An emissive surface that is no light emits no photons: always counted.
+        if (!lightsAreCaustics || (hit.kind == Intersection::Kind::Surface && hit.si.emissiveLight < 0))
+            L += beta * emittedOnHit(scene, hit, next, sp.si.p, bs.pdf, bs.delta);
         if (hit.kind == Intersection::Kind::Light || depthLimitReached(vertices, pathDepth_, stats)) break;
         ++vertices;
         sp = makeShadingPoint(hit.si, -wi);

@@ -4,6 +4,18 @@
 
 namespace gi {
 
+class PhotonMap;
+
+// A caustic photon map read along a continued path: at each vertex that is not purely specular,
+// the light that reached it from a light through specular surfaces alone (L S+ D), which the
+// map holds. A light the path reaches through a specular bounce is then not counted again.
+struct CausticPhotons {
+    const PhotonMap* map = nullptr;
+    int photons = 0;
+    float maxRadius = 0;
+    float coneFilter = 0;
+};
+
 // Traces through stochastic-presence surfaces (cut-outs) to the first surface that stops the ray.
 Intersection intersectVisible(const Scene& scene, Ray ray, Sampler& sampler, RayStats& stats, bool cameraRay);
 
@@ -11,8 +23,10 @@ class PathIntegrator : public Integrator {
 public:
     PathIntegrator(int paths, int pathDepth, int rayDepth, int rouletteDepth);
     Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, RayStats& stats, SampleAovs* aovs) const override;
-    // One path from an already shaded first vertex (shared with the irradiance-cache record sampler).
-    Color continuePath(const Scene& scene, ShadingPoint sp, Sampler& sampler, RayStats& stats) const;
+    // One path from an already shaded first vertex (shared with the irradiance-cache record
+    // samplers); with `caustics`, caustic light comes from that map (see CausticPhotons).
+    Color continuePath(const Scene& scene, ShadingPoint sp, Sampler& sampler, RayStats& stats,
+                       const CausticPhotons* caustics = nullptr) const;
 
 private:
     int paths_, pathDepth_, rayDepth_, rouletteDepth_;

@@ -4,12 +4,12 @@
 
 namespace gi {
 
-PathTracedRecordSampler::PathTracedRecordSampler(const RecordSettings& settings, bool leaveOutCaustics)
+PathTracedRecordSampler::PathTracedRecordSampler(const RecordSettings& settings, const CausticPhotons& caustics)
     : settings_(settings),
       layout_(HemisphereLayout::forPaths(settings.paths)),
       // The continuation starts at the record path's second vertex, so it gets one vertex less.
       continuation_(1, continuationDepth(settings.pathDepth), settings.rayDepth, std::max(0, settings.rouletteDepth - 1)),
-      leaveOutCaustics_(leaveOutCaustics) {}
+      caustics_(caustics) {}
 
 Color PathTracedRecordSampler::bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi,
                                                Sampler& sampler, RayStats& stats, float* distance) const {
@@ -28,8 +28,8 @@ Color PathTracedRecordSampler::bouncedRadiance(const Scene& scene, const Surface
         if (si.emissiveLight < 0 && si.material->isEmissive() && (si.doubleSided || dot(ray.d, si.ng) < 0))
             L += si.material->emission(si.uv);
         ShadingPoint sp = makeShadingPoint(si, -ray.d);
-        if (sp.bsdf.hasNonDelta() || !leaveOutCaustics_)
-            return weight * (L + continuation_.continuePath(scene, sp, sampler, stats));
+        if (sp.bsdf.hasNonDelta() || !caustics_.map)
+            return weight * (L + continuation_.continuePath(scene, sp, sampler, stats, caustics_.map ? &caustics_ : nullptr));
         // A purely specular surface: follow one branch, picked by its weight, and see whether
         // the path finds a non-specular surface before it finds light.
         if (depthLimitReached(specularVertices, settings_.rayDepth, stats)) return weight * L;

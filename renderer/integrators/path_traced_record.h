@@ -2,10 +2,12 @@
 // there are not enough photons to estimate the irradiance is it computed, by path tracing").
 //
 // The hemisphere is sampled in the M x N cells of the irradiance cache's record sampler
-// (irradiance_record_sampler.h), but a path that reaches a light or the sky through specular
-// surfaces alone (L S+ D, a caustic) is left out when the caustic map supplies caustics at
-// every shading point; otherwise it would be counted twice. (The cache's own sampler counts
-// such paths: it serves integrators without a caustic map.) Without gradients, as in Ward's
+// (irradiance_record_sampler.h). With a caustic map, which supplies caustics at every shading
+// point, caustic light is the map's along the whole path: a path that reaches a light or the
+// sky through specular surfaces alone (L S+ D at the record, a caustic there) is left out, and
+// every later non-specular vertex reads the map for the light focused onto it (the sun through
+// window glass onto a floor lights the room from there). (The cache's own sampler counts such
+// paths: it serves integrators without a caustic map.) Without gradients, as in Ward's
 // original cache: validity from the T&L radius of the nearest hit, like the photon records.
 #pragma once
 #include "irradiance_record.h"
@@ -16,7 +18,8 @@ namespace gi {
 
 class PathTracedRecordSampler {
 public:
-    PathTracedRecordSampler(const RecordSettings& settings, bool leaveOutCaustics);
+    // caustics.map: the caustic map, or null when there is none (then every path counts).
+    PathTracedRecordSampler(const RecordSettings& settings, const CausticPhotons& caustics);
 
     // A record for `site` from stream `streamKey` of a sampler seeded with `seed`: cell c uses
     // the stream's sample c, so a record depends on (seed, key, site) only.
@@ -27,14 +30,14 @@ public:
 
 private:
     // Radiance arriving from direction wi that has bounced off a non-specular surface at least
-    // once (or, without leaveOutCaustics, off any surface); sets the first hit's distance.
+    // once (or, without a caustic map, off any surface); sets the first hit's distance.
     Color bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi, Sampler& sampler,
                           RayStats& stats, float* distance) const;
 
     RecordSettings settings_;
     HemisphereLayout layout_;
     PathIntegrator continuation_;
-    bool leaveOutCaustics_;
+    CausticPhotons caustics_;
     mutable std::atomic<uint64_t> outliersClamped_{0};
 };
 

@@ -83,7 +83,10 @@ void PhotonMapIrradianceCacheIntegrator::preprocess(const PreprocessContext& con
     if (maps_.global.empty() && settings_.photons.photons > 0)
         context.scene.warn("photonMapIrradianceCache: the global photon map is empty, so every irradiance record "
                            "is path traced");
-    recordSampler_ = std::make_unique<PathTracedRecordSampler>(settings_.record, !maps_.caustic.empty());
+    CausticPhotons caustics;
+    if (!maps_.caustic.empty())
+        caustics = CausticPhotons{&maps_.caustic, settings_.photons.gatherPhotons, maps_.gatherRadius, kCausticConeFilter};
+    recordSampler_ = std::make_unique<PathTracedRecordSampler>(settings_.record, caustics);
     auto start = std::chrono::steady_clock::now();
     cache_.reset(context.scene.bounds().center, context.scene.bounds().radius);
     recordSurfaces_.clear();
