@@ -5,14 +5,17 @@
 namespace gi {
 
 PhotonLookup PhotonLookup::at(const ShadingPoint& sp, const Scene& scene) {
-    return PhotonLookup{sp.si.p, recordNormal(sp), photonSurface(sp.si.shapeId, sp.si.instanceId), &scene};
+    Vec3 n = recordNormal(sp);
+    return PhotonLookup{sp.si.p, n, photonSurface(sp.si.shapeId, sp.si.instanceId), &scene,
+                        dot(sp.si.ng, n) < 0 ? -sp.si.ng : sp.si.ng};
 }
 
 void PhotonMap::gather(const PhotonLookup& at, int k, float maxRadius, std::vector<Neighbour>& out) const {
     const float stretch = kDiscFlattening * kDiscFlattening - 1;
+    const Vec3 plane = at.discNormal();
     auto discDistance2 = [&](const Vec3& position) {
         Vec3 d = position - at.p;
-        float along = dot(d, at.n);
+        float along = std::min(std::abs(dot(d, at.n)), std::abs(dot(d, plane)));
         return lengthSquared(d) + stretch * along * along;
     };
     auto agrees = [&](const Photon& photon) { return octahedral::agrees(photon.normal, at.n, kPhotonNormalAgreement); };

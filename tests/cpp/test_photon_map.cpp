@@ -279,6 +279,28 @@ TEST(PhotonMapEstimate, CoverageCorrectionReadsTheSurfacesDensity) {
     }
 }
 
+TEST(PhotonMapEstimate, DiscLiesInTheFacetsPlane) {
+    // A flat facet of a smooth-shaded mesh (a coarse column): photons land on the facet (z = 0,
+    // irradiance 1), and the interpolated shading normal, which they were stored with and the
+    // query looks along, is tilted 16.7 degrees from it. A disc in the shading normal's plane
+    // counts the facet's photons at distance d as 0.29 d off it, an ellipse of 0.78 of the area
+    // divided by: dark at every radius. In the facet's plane (the geometric normal) it reads 1.
+    const Vec3 shading = normalize(Vec3(0.3f, 0, 1));
+    PhotonMap map;
+    map.build(photonSheet(200000, 0, shading, 4, 9));
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-0.8f, 0.8f);
+    double facet = 0, tilted = 0;
+    const int queries = 4000;
+    for (int i = 0; i < queries; ++i) {
+        Vec3 p(u(rng), u(rng), 0);
+        facet += map.irradiance({p, shading, kAnySurface, nullptr, Vec3(0, 0, 1)}, 50, 1).value.x;
+        tilted += map.irradiance({p, shading}, 50, 1).value.x;
+    }
+    EXPECT_NEAR(facet / queries, 1.0, 0.02);
+    EXPECT_NEAR(tilted / queries, 0.78, 0.03);  // the plane of the shading normal alone, as before
+}
+
 TEST(PhotonMapEstimate, PhotonsOnTheOtherSideOfAThinWallDoNotCount) {
     // A wall 1 mm thick: the lit face at z = +0.0005 (normal +z) holds every photon; a query
     // on the dark face at z = -0.0005 looks along -z. A spherical search of any radius
