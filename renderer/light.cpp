@@ -404,6 +404,7 @@ public:
     // Its photons start on a disc facing their own direction: a place on that disc is a
     // different place in the scene for every direction, nothing a guide over uPos could learn.
     bool emitsFromFixedPositions() const override { return false; }
+    bool isDome() const override { return true; }
     LightSample sample(const Vec3& ref, Vec2 u, float time) const override {
         LightSample ls;
         ls.distance = kInf;

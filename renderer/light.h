@@ -82,6 +82,9 @@ public:
     // Whether emit()'s uPos names a fixed place in the scene (a point on the light, or on the
     // disc a sun shines through), so that an emission guide can learn which of them pay.
     virtual bool emitsFromFixedPositions() const { return true; }
+    // Light from the whole sky (a dome): a BSDF-sampled ray finds it through window glass as
+    // easily as a photon does, where a small light (a sun) is found only by photons.
+    virtual bool isDome() const { return false; }
     virtual void preprocess(const SceneBounds& bounds) { bounds_ = bounds; }
     // Portals over the openings an infinite light shines through (portal.h); others ignore them.
     virtual void setPortals(std::shared_ptr<const PortalSet>) {}

@@ -7,7 +7,16 @@ namespace gi {
 
 namespace {
 constexpr float kBounceCausticShare = 0.25f;
+
+// What the domes send along a ray that left a specular bounce: light through glass or off a
+// mirror onto the vertex before, which the caustic map leaves to the gather rays.
+Color skyAfterSpecularBounce(const Scene& scene, const Ray& ray) {
+    Color L(0.0f);
+    for (int index : scene.infiniteLights())
+        if (scene.lights()[size_t(index)]->isDome()) L += scene.lights()[size_t(index)]->radiance(ray.d, ray.time);
+    return L;
 }
+}  // namespace
 
 PhotonMapFinalGatherIntegrator::PhotonMapFinalGatherIntegrator(const PhotonFinalGatherSettings& settings)
     : DirectIntegrator(settings.rayDepth, settings.lightSamples), settings_(settings) {
@@ -15,6 +24,7 @@ PhotonMapFinalGatherIntegrator::PhotonMapFinalGatherIntegrator(const PhotonFinal
     settings_.photons.globalLeavesOutDirect = settings.gatherDirectLight;
     settings_.photons.precomputeIrradiance = true;
     settings_.photons.rayDepth = settings.rayDepth;
+    settings_.photons.causticMapLeavesOutDomes = true;
 }
 
 void PhotonMapFinalGatherIntegrator::preprocess(const PreprocessContext& context) {
@@ -55,11 +65,14 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
     // An emitter this path reaches is its to count only when a path-traced vertex's non-specular
     // sample found it (MIS against that vertex's light sample); through specular surfaces, the
     // caustic map read at the vertex before them counts it. MIS needs that sample's pdf and point.
-    bool countsEmitters = false;
+    // A dome this path reaches right after a specular bounce is its to count whatever came
+    // before: the caustic map leaves domes out.
+    bool countsEmitters = false, afterSpecular = false;
     float prevPdf = 0;
     Vec3 prevPoint;
     for (;; ++vertex) {
         Intersection hit = intersectVisible(scene, ray, sampler, stats, false);
+        if (afterSpecular && hit.kind == Intersection::Kind::None) return L + weight * skyAfterSpecularBounce(scene, ray);
         if (countsEmitters) {
             if (hit.kind == Intersection::Kind::None) return L + weight * escapedRadiance(scene, ray, prevPdf, false, false);
             L += weight * emittedOnHit(scene, hit, ray, prevPoint, prevPdf, false);
@@ -95,6 +108,7 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
             weight *= bs.weight;
             if (!isFinite(weight) || isBlack(weight)) return L;
             countsEmitters = !bs.delta;
+            afterSpecular = bs.delta;
             prevPdf = bs.pdf, prevPoint = sp.si.p;
             ray = spawnRay(sp.si, sp.frame.toWorld(bs.wi));
             continue;
@@ -123,6 +137,7 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
         if (n == 0 || depthLimitReached(vertex, settings_.finalGatherDepth, stats)) return L;
         if (!followDeltaBranch(sp, branches, n, sampler.get1D(), weight, ray)) return L;
         countsEmitters = false;
+        afterSpecular = true;
     }
 }
 

@@ -149,14 +149,27 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
             scene.warn("photon mapping: none of " + std::to_string(globalCount) +
                        " photons landed on a surface that reflects light diffusely; the global map is empty");
     }
+    // The caustic pass's lights: all that emit photons, or all but the domes.
+    Distribution1D causticEmitters = emitters.distribution;
+    if (causticCount > 0 && settings.causticMapLeavesOutDomes) {
+        std::vector<float> weights(size_t(emitters.distribution.size()));
+        float kept = 0;
+        for (int i = 0; i < emitters.distribution.size(); ++i) {
+            weights[size_t(i)] = scene.lights()[size_t(i)]->isDome() ? 0.0f : emitters.distribution.func(i);
+            kept += weights[size_t(i)];
+        }
+        if (kept > 0) causticEmitters = Distribution1D(weights.data(), int(weights.size()));
+        else causticCount = 0;  // only domes: their caustics are gathered
+    }
+    PhotonTracer causticTracer(scene, causticEmitters, context.seed, settings.guideEmission ? &emitters.guide : nullptr);
     if (causticCount > 0) {
         PhotonTraceSettings caustic;
         caustic.maxBounces = settings.photonDepth;
         caustic.causticOnly = true;
         caustic.keepDirect = caustic.keepIndirect = false;
         uint32_t traced = causticCount;
-        causticPhotons = tracer.tracePass(kCausticStream, causticCount, caustic, counters, context.cancel, causticDeadline,
-                                          &traced);
+        causticPhotons = causticTracer.tracePass(kCausticStream, causticCount, caustic, counters, context.cancel,
+                                                 causticDeadline, &traced);
         scaleUp(causticPhotons, traced, causticCount, "caustic");
         if (causticPhotons.empty())
             scene.warn("photon mapping: none of " + std::to_string(causticCount) +

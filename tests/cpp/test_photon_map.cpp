@@ -682,6 +682,60 @@ TEST(PhotonMapRender, CausticSeenAfterABounceMatchesThePathTracer) {
     EXPECT_NEAR(cacheSum / pathSum, 1.0, 0.05);
 }
 
+// A closed room lit only by a sky through a glass pane in its ceiling (all its light a caustic,
+// L S D, as in a church under the sky). Final gathering leaves the dome's photons out of its
+// caustic map and counts the sky through the glass with its gather rays, whatever the map would
+// read: each light path exactly once. The path tracer (its BSDF-sampled rays find the sky through
+// the pane) is the reference; the camera looks down at the floor under the window.
+TEST(PhotonMapRender, SkyThroughGlassIsGatheredOnce) {
+    auto build = [](Scene& scene) {
+        int white = scene.addMaterial(lambert(Color(0.6f)));
+        MaterialDesc glass;
+        glass.name = "glass";
+        glass.opacity = 0;
+        glass.roughness = 0;
+        glass.ior = 1.5f;
+        int g = scene.addMaterial(glass);
+        // A 2 x 2 x 2 room; the ceiling (y = 2) open over |x|, |z| < 0.5, where the pane is.
+        addQuad(scene, "/Floor", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, white);
+        addQuad(scene, "/Back", {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, white);
+        addQuad(scene, "/Front", {-1, 0, 1}, {-1, 2, 1}, {1, 2, 1}, {1, 0, 1}, white);
+        addQuad(scene, "/Left", {-1, 0, -1}, {-1, 2, -1}, {-1, 2, 1}, {-1, 0, 1}, white);
+        addQuad(scene, "/Right", {1, 0, -1}, {1, 0, 1}, {1, 2, 1}, {1, 2, -1}, white);
+        addQuad(scene, "/CeilingA", {-1, 2, -1}, {-0.5f, 2, -1}, {-0.5f, 2, 1}, {-1, 2, 1}, white);
+        addQuad(scene, "/CeilingB", {0.5f, 2, -1}, {1, 2, -1}, {1, 2, 1}, {0.5f, 2, 1}, white);
+        addQuad(scene, "/CeilingC", {-0.5f, 2, -1}, {0.5f, 2, -1}, {0.5f, 2, -0.5f}, {-0.5f, 2, -0.5f}, white);
+        addQuad(scene, "/CeilingD", {-0.5f, 2, 0.5f}, {0.5f, 2, 0.5f}, {0.5f, 2, 1}, {-0.5f, 2, 1}, white);
+        addQuad(scene, "/Pane", {-0.5f, 2, -0.5f}, {-0.5f, 2, 0.5f}, {0.5f, 2, 0.5f}, {0.5f, 2, -0.5f}, g);
+        LightDesc sky;
+        sky.name = "/Sky";
+        sky.kind = "dome";
+        sky.intensity = 1;
+        scene.addLight(sky);
+        scene.setCamera(lookingDown({0, 1, 0}, true, 10));  // the floor's middle square metre
+    };
+    // Per seed the path tracer (2048 spp) varies by 0.7%, final gathering (64 spp) by 1.2%, so
+    // the ratio of four-seed means by 0.7%; final gathering reads its deeper bounces from
+    // photons, 1.5% dark over ten seeds: 4% is 3.5 sigma past that. Measured: 0.989; with the
+    // dome's photons kept in the caustic map as well, 1.82; with the map's but not the gather
+    // rays' sky, 0.16.
+    double pathSum = 0, gatherSum = 0;
+    for (uint32_t seed = 1; seed <= 4; ++seed) {
+        Scene reference, scene;
+        build(reference);
+        build(scene);
+        Render path = render(reference, "path", 8, 2048, {}, seed);
+        Render fg = render(scene, "photonMapFinalGather", 8, 64, {}, seed);
+        ASSERT_TRUE(allFinite(fg));
+        EXPECT_EQ(fg.stats.integrator.at("causticMapPhotons"), 0);  // the dome's caustics are gathered
+        pathSum += channelMean(path.rgb, 1);
+        gatherSum += channelMean(fg.rgb, 1);
+    }
+    std::printf("[ sky through glass ] floor: final gathering %.5f, path %.5f (ratio %.4f)\n", gatherSum / 4,
+                pathSum / 4, gatherSum / pathSum);
+    EXPECT_NEAR(gatherSum / pathSum, 1.0, 0.04);
+}
+
 // The thesis's box ("Caixa"): a Cornell box with red and blue walls, a ceiling light and a
 // tinted glass sphere, after scenes/cornell/cornell.usda.
 void buildGlassCornellBox(Scene& scene) {
