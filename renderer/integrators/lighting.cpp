@@ -81,6 +81,13 @@ Color escapedRadiance(const Scene& scene, const Ray& ray, float prevPdf, bool pr
     return L;
 }
 
+Color domeRadiance(const Scene& scene, const Ray& ray) {
+    Color L(0.0f);
+    for (int index : scene.infiniteLights())
+        if (scene.lights()[size_t(index)]->isDome()) L += scene.lights()[size_t(index)]->radiance(ray.d, ray.time);
+    return L;
+}
+
 void recordAovs(SampleAovs* aovs, const ShadingPoint& sp, float depth) {
     if (!aovs || aovs->hit) return;
     aovs->hit = true;

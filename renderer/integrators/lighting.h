@@ -30,6 +30,8 @@ Color emittedOnHit(const Scene& scene, const Intersection& hit, const Ray& ray, 
                    float prevPdf, bool prevDelta);
 // Radiance of infinite lights along an escaping ray, MIS-weighted likewise.
 Color escapedRadiance(const Scene& scene, const Ray& ray, float prevPdf, bool prevDelta, bool cameraRay);
+// What the dome lights (Light::isDome) send along a ray that leaves the scene.
+Color domeRadiance(const Scene& scene, const Ray& ray);
 
 void recordAovs(SampleAovs* aovs, const ShadingPoint& sp, float depth);
 

@@ -48,22 +48,23 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
         // direction and Russian roulette.
         Vec2 uLight = sampler.get2D(), uChoice = sampler.get2D();
         L += beta * sampleDirectLight(scene, sp, uLight, uChoice.x, stats, true);
-        if (caustics && sp.bsdf.hasNonDelta())
-            L += beta * caustics->map->radiance(sp, scene, caustics->photons, caustics->maxRadius, caustics->coneFilter)
-                            .value;
+        if (caustics && sp.bsdf.hasNonDelta() && sampler.get1D() < caustics->readShare)
+            L += beta *
+                 caustics->map->radiance(sp, scene, caustics->photons, caustics->maxRadius, caustics->coneFilter).value /
+                 caustics->readShare;
         BsdfSample bs = sp.bsdf.sample(sp.woLocal, uChoice.y, sampler.get2D());
         if (!bs.valid) break;
         if (bs.delta && depthLimitReached(specularVertices++, rayDepth_, stats)) break;
         beta *= bs.weight;
         if (!isFinite(beta) || isBlack(beta)) break;
         // Every vertex before a specular bounce read the caustic map, so a light found through
-        // it is a caustic already counted there.
+        // it is a caustic already counted there (a dome is not in the map).
         const bool lightsAreCaustics = caustics && bs.delta;
         Vec3 wi = sp.frame.toWorld(bs.wi);
         Ray next = spawnRay(sp.si, wi);
         Intersection hit = intersectVisible(scene, next, sampler, stats, false);
         if (hit.kind == Intersection::Kind::None) {
-            if (!lightsAreCaustics) L += beta * escapedRadiance(scene, next, bs.pdf, bs.delta, false);
+            L += beta * (lightsAreCaustics ? domeRadiance(scene, next) : escapedRadiance(scene, next, bs.pdf, bs.delta, false));
             break;
         }
         // An emissive surface that is no light emits no photons: always counted.

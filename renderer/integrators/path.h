@@ -8,12 +8,16 @@ class PhotonMap;
 
 // A caustic photon map read along a continued path: at each vertex that is not purely specular,
 // the light that reached it from a light through specular surfaces alone (L S+ D), which the
-// map holds. A light the path reaches through a specular bounce is then not counted again.
+// map holds. A light the path reaches through a specular bounce is then not counted again, but
+// for the domes: the map leaves them out (PhotonMapSettings::causticMapLeavesOutDomes), and a
+// BSDF-sampled ray finds the sky through glass well. Each vertex reads the map with probability
+// readShare, weighted by its inverse: a k-nearest search costs more than the rest of a vertex.
 struct CausticPhotons {
     const PhotonMap* map = nullptr;
     int photons = 0;
     float maxRadius = 0;
     float coneFilter = 0;
+    float readShare = 1;
 };
 
 // Traces through stochastic-presence surfaces (cut-outs) to the first surface that stops the ray.

@@ -20,7 +20,8 @@ Color PathTracedRecordSampler::bouncedRadiance(const Scene& scene, const Surface
         Intersection hit = intersectVisible(scene, ray, sampler, stats, false);
         if (specularVertices == 0 && hit.kind != Intersection::Kind::None) *distance = hit.t;
         // A light reached directly is direct light (light sampling), through specular
-        // surfaces a caustic (the caustic map).
+        // surfaces a caustic (the caustic map), but for the sky: the map leaves domes out.
+        if (hit.kind == Intersection::Kind::None && specularVertices > 0) return weight * domeRadiance(scene, ray);
         if (hit.kind != Intersection::Kind::Surface) return Color(0.0f);
         const SurfaceInteraction& si = hit.si;
         Color L(0.0f);

@@ -3,11 +3,12 @@
 //
 // The hemisphere is sampled in the M x N cells of the irradiance cache's record sampler
 // (irradiance_record_sampler.h). With a caustic map, which supplies caustics at every shading
-// point, caustic light is the map's along the whole path: a path that reaches a light or the
-// sky through specular surfaces alone (L S+ D at the record, a caustic there) is left out, and
-// every later non-specular vertex reads the map for the light focused onto it (the sun through
-// window glass onto a floor lights the room from there). (The cache's own sampler counts such
-// paths: it serves integrators without a caustic map.) Without gradients, as in Ward's
+// point, caustic light is the map's along the whole path: a path that reaches a light through
+// specular surfaces alone (L S+ D at the record, a caustic there) is left out, and every later
+// non-specular vertex reads the map for the light focused onto it (the sun through window glass
+// onto a floor lights the room from there). Domes are the exception (CausticPhotons): the map
+// leaves them out, and the records carry the sky through glass. (The cache's own sampler counts
+// every path: it serves integrators without a caustic map.) Without gradients, as in Ward's
 // original cache: validity from the T&L radius of the nearest hit, like the photon records.
 #pragma once
 #include "irradiance_record.h"

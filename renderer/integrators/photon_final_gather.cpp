@@ -8,14 +8,6 @@ namespace gi {
 namespace {
 constexpr float kBounceCausticShare = 0.25f;
 
-// What the domes send along a ray that left a specular bounce: light through glass or off a
-// mirror onto the vertex before, which the caustic map leaves to the gather rays.
-Color skyAfterSpecularBounce(const Scene& scene, const Ray& ray) {
-    Color L(0.0f);
-    for (int index : scene.infiniteLights())
-        if (scene.lights()[size_t(index)]->isDome()) L += scene.lights()[size_t(index)]->radiance(ray.d, ray.time);
-    return L;
-}
 }  // namespace
 
 PhotonMapFinalGatherIntegrator::PhotonMapFinalGatherIntegrator(const PhotonFinalGatherSettings& settings)
@@ -65,14 +57,14 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
     // An emitter this path reaches is its to count only when a path-traced vertex's non-specular
     // sample found it (MIS against that vertex's light sample); through specular surfaces, the
     // caustic map read at the vertex before them counts it. MIS needs that sample's pdf and point.
-    // A dome this path reaches right after a specular bounce is its to count whatever came
-    // before: the caustic map leaves domes out.
+    // A dome this path reaches right after a specular bounce (through glass) is its to count
+    // whatever came before: the caustic map leaves domes out.
     bool countsEmitters = false, afterSpecular = false;
     float prevPdf = 0;
     Vec3 prevPoint;
     for (;; ++vertex) {
         Intersection hit = intersectVisible(scene, ray, sampler, stats, false);
-        if (afterSpecular && hit.kind == Intersection::Kind::None) return L + weight * skyAfterSpecularBounce(scene, ray);
+        if (afterSpecular && hit.kind == Intersection::Kind::None) return L + weight * domeRadiance(scene, ray);
         if (countsEmitters) {
             if (hit.kind == Intersection::Kind::None) return L + weight * escapedRadiance(scene, ray, prevPdf, false, false);
             L += weight * emittedOnHit(scene, hit, ray, prevPoint, prevPdf, false);

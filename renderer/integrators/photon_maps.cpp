@@ -142,6 +142,7 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
         global.maxBounces = settings.photonDepth;
         global.keepDirect = global.keepCaustic = settings.globalKeepsDirectAndCaustic;
         if (settings.globalLeavesOutDirect) global.keepDirect = false;
+        global.keepDomeCaustic = settings.globalKeepsDomeCaustics;
         uint32_t traced = globalCount;
         globalPhotons = tracer.tracePass(kGlobalStream, globalCount, global, counters, context.cancel, globalDeadline, &traced);
         scaleUp(globalPhotons, traced, globalCount, "global");

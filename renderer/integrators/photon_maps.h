@@ -48,6 +48,9 @@ struct PhotonMapSettings {
     // reads a few sparse photons over a wide disc (Sibenik under its sky alone, all light
     // through the glass: 0.58 of the path tracer with them).
     bool causticMapLeavesOutDomes = false;
+    // ... and the global map then keeps them, when it keeps no caustics otherwise: the photon
+    // cache's photon records carry the sky through glass, as its path-traced records do.
+    bool globalKeepsDomeCaustics = false;
     // Photons start where the emitter pilot saw them reach what the render reads
     // (emission_guide.h); off: uniformly over each light (for comparisons).
     bool guideEmission = true;

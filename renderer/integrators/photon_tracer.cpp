@@ -76,8 +76,8 @@ std::vector<Photon> PhotonTracer::tracePass(uint32_t stream, uint32_t count, con
             if (cancel && cancel->load(std::memory_order_relaxed)) return;
             if (chunk > 0 && deadline > 0 && steadySeconds() >= deadline) return;
             std::vector<Photon>& out = stored[chunk];
-            PhotonLanding keep = [&](const Photon& photon, PhotonPath path, int) {
-                if (settings.keeps(path)) out.push_back(photon);
+            PhotonLanding keep = [&](const Photon& photon, PhotonPath path, int light) {
+                if (settings.keeps(path, scene_.lights()[size_t(light)]->isDome())) out.push_back(photon);
             };
             RayStats stats;
             uint32_t end = uint32_t(std::min<size_t>(count, (chunk + 1) * kChunk));

@@ -33,8 +33,11 @@ struct PhotonTraceSettings {
     bool causticOnly = false;  // end a path at its first non-specular bounce (the caustic pass)
     // Which landings tracePass keeps.
     bool keepDirect = true, keepCaustic = true, keepIndirect = true;
-    bool keeps(PhotonPath path) const {
-        return path == PhotonPath::Direct ? keepDirect : (path == PhotonPath::Caustic ? keepCaustic : keepIndirect);
+    // Caustic landings of dome lights' photons kept even without keepCaustic.
+    bool keepDomeCaustic = false;
+    bool keeps(PhotonPath path, bool fromDome) const {
+        if (path == PhotonPath::Caustic) return keepCaustic || (keepDomeCaustic && fromDome);
+        return path == PhotonPath::Direct ? keepDirect : keepIndirect;
     }
 };
 
