@@ -563,6 +563,19 @@ void Scene::buildLights() {
         Vec3 lo, hi;
         if (lights_[i]->shapeBounds(&lo, &hi)) analyticLights_.push_back(int(i));
     }
+    photonBounds_ = bounds_;
+    Vec3 lo = boundsMin_, hi = boundsMax_;
+    bool grew = false;
+    for (const auto& light : lights_) {
+        Vec3 a, b;
+        if (!light->shapeBounds(&a, &b) || !isFinite(a) || !isFinite(b)) continue;
+        grew = grew || a.x < lo.x || a.y < lo.y || a.z < lo.z || b.x > hi.x || b.y > hi.y || b.z > hi.z;
+        lo = vmin(lo, a), hi = vmax(hi, b);
+    }
+    if (grew) {
+        photonBounds_.center = (lo + hi) * 0.5f;
+        photonBounds_.radius = std::max(1e-3f, length(hi - lo) * 0.5f);
+    }
     buildLightBvh();
     std::vector<const Light*> lights;
     for (const auto& light : lights_) lights.push_back(light.get());

@@ -110,6 +110,10 @@ public:
     float lightPmf(const Vec3& p, int light) const { return lightSampler_.pmf(p, light); }
     const std::vector<int>& infiniteLights() const { return infiniteLights_; }
     const SceneBounds& bounds() const { return bounds_; }
+    // The geometry's bounds and the bounded lights' shapes: where a distant or dome light's
+    // photons start, so that a light outside the geometry (a lamp above a skylight) shades them
+    // as it shades the sky from camera paths.
+    const SceneBounds& photonBounds() const { return photonBounds_; }
     Vec3 boundsMin() const { return boundsMin_; }
     Vec3 boundsMax() const { return boundsMax_; }
     const CameraDesc& cameraDesc() const { return cameraDesc_; }
@@ -232,6 +236,7 @@ private:
     LightSampler lightSampler_;
     SceneBounds bounds_;
     Vec3 boundsMin_{0.0f}, boundsMax_{0.0f};
+    SceneBounds photonBounds_;
     CameraDesc cameraDesc_;
     bool hasCamera_ = false;
     bool committed_ = false;

@@ -44,7 +44,7 @@ PhotonEmitters choosePhotonEmitters(const Scene& scene, const SeenSurfaces& seen
     std::vector<float> power(lights);
     bool anyPower = false;
     for (size_t i = 0; i < lights; ++i) {
-        power[i] = luminance(scene.lights()[i]->power(scene.bounds()));
+        power[i] = luminance(scene.lights()[i]->power(scene.photonBounds()));
         anyPower = anyPower || (power[i] > 0 && std::isfinite(power[i]));
     }
     if (!anyPower) {

@@ -20,7 +20,7 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
     if (cell) *cell = EmissionGuide::cellOf(uPosition);
     // Photons leave throughout the shutter, as camera rays arrive (a moving light from where it is).
     float const time = sampler.shutterTime();
-    PhotonEmission emission = scene_.lights()[light]->emit(uPosition, uDirection, scene_.bounds(), time);
+    PhotonEmission emission = scene_.lights()[light]->emit(uPosition, uDirection, scene_.photonBounds(), time);
     Color beta = emission.power / float(double(pmf) * density * emitted);
     if (!isFinite(beta) || isBlack(beta) || !isFinite(emission.ray.o) || !isFinite(emission.ray.d)) return light;
     Ray ray = emission.ray;
