@@ -22,6 +22,18 @@ inline MaterialDesc lambert(Color albedo, Color emission = Color(0.0f)) {
     return m;
 }
 
+// A smooth dielectric (glass, IOR 1.5) whose transmission is tinted by `tint` (UsdPreviewSurface's
+// diffuseColor, 0.18 unless authored).
+inline MaterialDesc smoothGlass(Color tint) {
+    MaterialDesc m;
+    m.name = "glass";
+    m.diffuseColor = tint;
+    m.opacity = 0;
+    m.roughness = 0;
+    m.ior = 1.5f;
+    return m;
+}
+
 // A UsdLux sphere light of the given radius and intensity centred at `center`.
 inline LightDesc sphereLight(const char* name, Vec3 center, float radius, float intensity) {
     LightDesc l;
