@@ -556,22 +556,20 @@ void Scene::buildLights() {
             if (light->isInfinite()) light->setPortals(set);
     }
     std::vector<float> power;
+    Vec3 lo = boundsMin_, hi = boundsMax_;  // the geometry's and the bounded lights' (photonBounds)
+    bool grew = false;
     for (size_t i = 0; i < lights_.size(); ++i) {
         lights_[i]->preprocess(bounds_);
         power.push_back(luminance(lights_[i]->power(bounds_)));
         if (lights_[i]->isInfinite()) infiniteLights_.push_back(int(i));
-        Vec3 lo, hi;
-        if (lights_[i]->shapeBounds(&lo, &hi)) analyticLights_.push_back(int(i));
-    }
-    photonBounds_ = bounds_;
-    Vec3 lo = boundsMin_, hi = boundsMax_;
-    bool grew = false;
-    for (const auto& light : lights_) {
         Vec3 a, b;
-        if (!light->shapeBounds(&a, &b) || !isFinite(a) || !isFinite(b)) continue;
+        if (!lights_[i]->shapeBounds(&a, &b)) continue;
+        analyticLights_.push_back(int(i));
+        if (!isFinite(a) || !isFinite(b)) continue;
         grew = grew || a.x < lo.x || a.y < lo.y || a.z < lo.z || b.x > hi.x || b.y > hi.y || b.z > hi.z;
         lo = vmin(lo, a), hi = vmax(hi, b);
     }
+    photonBounds_ = bounds_;
     if (grew) {
         photonBounds_.center = (lo + hi) * 0.5f;
         photonBounds_.radius = std::max(1e-3f, length(hi - lo) * 0.5f);

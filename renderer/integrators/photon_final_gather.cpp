@@ -7,7 +7,6 @@ namespace gi {
 
 namespace {
 constexpr float kBounceCausticShare = 0.25f;
-
 }  // namespace
 
 PhotonMapFinalGatherIntegrator::PhotonMapFinalGatherIntegrator(const PhotonFinalGatherSettings& settings)

@@ -46,8 +46,7 @@ IrradianceRecord PhotonMapIrradianceCacheIntegrator::computeRecord(const Scene& 
     const int k = settings_.photons.gatherPhotons;
     const RecordSite& site = where.record;
     PhotonEstimate estimate =
-        maps_.global.irradiance(PhotonLookup{site.p, site.n, where.surface, &scene, dot(site.ng, site.n) < 0 ? -site.ng : site.ng},
-                                k, maps_.gatherRadius);
+        maps_.global.irradiance(PhotonLookup{site.p, site.n, where.surface, &scene, site.ng}, k, maps_.gatherRadius);
     if (estimate.photons >= (k + 1) / 2 && estimate.coverage >= kMinCoverage) {
         const RecordSettings& r = settings_.record;
         IrradianceRecord record;

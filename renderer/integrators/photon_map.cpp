@@ -5,9 +5,7 @@
 namespace gi {
 
 PhotonLookup PhotonLookup::at(const ShadingPoint& sp, const Scene& scene) {
-    Vec3 n = recordNormal(sp);
-    return PhotonLookup{sp.si.p, n, photonSurface(sp.si.shapeId, sp.si.instanceId), &scene,
-                        dot(sp.si.ng, n) < 0 ? -sp.si.ng : sp.si.ng};
+    return PhotonLookup{sp.si.p, recordNormal(sp), photonSurface(sp.si.shapeId, sp.si.instanceId), &scene, sp.si.ng};
 }
 
 void PhotonMap::gather(const PhotonLookup& at, int k, float maxRadius, std::vector<Neighbour>& out) const {

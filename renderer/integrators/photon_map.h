@@ -69,7 +69,7 @@ struct PhotonEstimate {
 
 // Where light is wanted: a point, the unit normal on the side it is wanted (the shading normal,
 // which the photons' normals are compared with), its surface, the scene for the visibility guard
-// (none: photons from other surfaces count unchecked), and the geometric normal on n's side
+// (none: photons from other surfaces count unchecked), and the geometric normal, either side
 // (zero: n). A photon's distance off the disc is the smaller of its offsets along n and along ng.
 // Photons land on the flat facets of a smooth-shaded mesh, which the interpolated normal tilts
 // away from: along n alone the facet's own photons counted as off the disc, and on Sponza's
