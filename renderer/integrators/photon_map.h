@@ -52,6 +52,11 @@ struct PhotonEstimate {
     // corner) 0.28: there the estimate, which divides by the whole disc's area, reads dark.
     float coverage = 0;
 
+    // Whether the photons say the surface does not fill the disc (the threshold below).
+    bool partlyCovered() const { return coverage < std::min(0.7f, 1 - 2.9f / std::sqrt(float(photons))); }
+    // Whether enough photons spread over the whole disc to say the surface fills it.
+    bool fillsDisc() const { return photons >= 16 && !partlyCovered(); }
+
     // The estimate divided by the share of its disc the surface covers, where the photons say it
     // does not cover it all: coverage below 0.7 and below what 99% of estimates over a full disc
     // reach with this many photons (1 - 2.9 / sqrt(n), fitted to simulation: 0.59 for 50, 0.71 for
@@ -61,7 +66,7 @@ struct PhotonEstimate {
     // curved geometry; where the surface fills the disc (every point but edges, as the radius
     // shrinks) nothing changes.
     Color coverageCorrected() const {
-        if (photons < 16 || !(coverage < std::min(0.7f, 1 - 2.9f / std::sqrt(float(photons))))) return value;
+        if (photons < 16 || !partlyCovered()) return value;
         float covered = std::clamp(2 * std::sqrt(3 * coverage) / kPi, 0.25f, 1.0f);
         return value / covered;
     }

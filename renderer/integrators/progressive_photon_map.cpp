@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "disc_area.h"
 #include "photon_maps.h"
 #include "photon_tracer.h"
 #include "seen_surfaces.h"
@@ -74,13 +75,19 @@ void ProgressivePhotonMapIntegrator::beginPass(const PreprocessContext& context,
 }
 
 Color ProgressivePhotonMapIntegrator::indirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler,
-                                               RayStats&) const {
+                                               RayStats& stats) const {
     size_t iteration = size_t(sampler.sampleIndex() - uint32_t(firstSample_));
     if (iteration >= maps_.size() || maps_[iteration].empty()) return Color(0.0f);
     float radius = settings_.initialRadius * footprint_.at(sp.si.p) * radiusScales_[iteration];
     lookups_.fetch_add(1, std::memory_order_relaxed);
     PhotonEstimate e = maps_[iteration].radiance(sp, scene, kMaxLookupPhotons, radius);
-    return e.coverageCorrected();
+    photonsFound_.fetch_add(uint64_t(e.photons), std::memory_order_relaxed);
+    if (e.photons == 0) return Color(0.0f);
+    // A disc full of photons shrank to the k-th: its coverage is read from them.
+    if (e.photons >= kMaxLookupPhotons - 1) return e.coverageCorrected();
+    if (e.fillsDisc()) return e.value;  // many photons, spread over the whole disc: no probe needed
+    float full = kPi * radius * radius;
+    return e.value * (full / discArea(PhotonLookup::at(sp, scene), radius, sampler, stats));
 }
 
 std::map<std::string, double> ProgressivePhotonMapIntegrator::statistics() const {
@@ -91,6 +98,7 @@ std::map<std::string, double> ProgressivePhotonMapIntegrator::statistics() const
     s["photonPasses"] = passes_;
     s["photonSeconds"] = photonSeconds_;
     s["photonLookups"] = double(lookups_.load());
+    s["photonsPerLookup"] = lookups_.load() ? double(photonsFound_.load()) / double(lookups_.load()) : 0.0;
     s["photonLightsSkipped"] = double(emitters_.skipped.size());
     s["lastRadiusScale"] = radiusScales_.empty() ? 1.0 : radiusScales_.back();
     return s;

@@ -12,7 +12,11 @@
 // light sampling and specular recursion, and at every non-specular point it reaches, the
 // photons that have been scattered at least once (by anything: caustics through glass and
 // every indirect bounce), within r_i: sum f(wo, wi_p) flux_p / (pi r_i^2), with the photon
-// map's guards (normal agreement, a disc, visibility across surfaces; photon_map.h).
+// map's guards (normal agreement, a disc, visibility across surfaces; photon_map.h), divided by
+// the area of surface in the disc that could hold them: measured by probe rays where too few
+// photons say it (disc_area.h). Dividing by pi r_i^2 alone read the early, wide discs dark at
+// every edge and molding: Sibenik under its sky (80x60, 60 s) read 0.81 of the image with a
+// first radius 8 times smaller; with the area measured, 0.97.
 // r_1 is initialRadius pixel footprints at the point, so the radius follows the image's
 // resolution whatever the scene's scale.
 //
@@ -64,7 +68,7 @@ private:
     uint64_t photonsTraced_ = 0, photonsStored_ = 0, photonsAtDepthCap_ = 0;
     int passes_ = 0;
     double photonSeconds_ = 0;
-    mutable std::atomic<uint64_t> lookups_{0};
+    mutable std::atomic<uint64_t> lookups_{0}, photonsFound_{0};
 };
 
 }  // namespace gi

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <random>
 
+#include "renderer/integrators/disc_area.h"
 #include "renderer/integrators/kd_tree.h"
 #include "renderer/integrators/photon_final_gather.h"
 #include "renderer/integrators/photon_map.h"
@@ -335,6 +336,55 @@ TEST(PhotonMapEstimate, DiscKernelKeepsAParallelSurfaceOut) {
     EXPECT_NEAR(sum / queries, 1.0, 0.03);
 }
 
+// The share of a disc that discArea measures, averaged over `draws` probe patterns.
+double discShare(const Scene& scene, const PhotonLookup& at, float radius, int draws = 2000) {
+    Sampler sampler(7);
+    RayStats stats;
+    double sum = 0;
+    for (int i = 0; i < draws; ++i) {
+        sampler.start(i, 0, 0);
+        sum += discArea(at, radius, sampler, stats);
+    }
+    return sum / draws / (kPi * radius * radius);
+}
+
+TEST(PhotonMapEstimate, DiscAreaMeasuresTheSurfaceInTheDisc) {
+    // A floor (x < 0) meets a second floor (x > 0), a wall stands where they meet over y > 0, and
+    // a strip 0.02 wide hangs above. Radius 0.05: in the middle of the floor the disc is all
+    // floor, and every probe counts (exactly pi r^2); where the floors meet in plain view the
+    // second floor counts too (the disc is full); at the wall's foot it is behind the wall and
+    // drops out, as its photons do (a half); at the second floor's open edge, a half; on the
+    // strip, its share of the disc.
+    Scene scene;
+    int white = scene.addMaterial(lambert(Color(0.8f)));
+    addQuad(scene, "/Floor", {-1, -1, 0}, {0, -1, 0}, {0, 1, 0}, {-1, 1, 0}, white);
+    addQuad(scene, "/Floor2", {0, -1, 0}, {1, -1, 0}, {1, 1, 0}, {0, 1, 0}, white);
+    addQuad(scene, "/Wall", {0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}, white);  // over y > 0 only
+    addQuad(scene, "/Strip", {-0.51f, -1, 0.5f}, {-0.49f, -1, 0.5f}, {-0.49f, 1, 0.5f}, {-0.51f, 1, 0.5f}, white);
+    scene.commit();
+    const Vec3 up(0, 0, 1);
+    const float r = 0.05f;
+    auto on = [&](Vec3 p, uint32_t shape) { return PhotonLookup{p, up, photonSurface(shape, 0xffffffffu), &scene, up}; };
+    RayStats stats;
+    Sampler sampler(3);
+    sampler.start(0, 0, 0);
+    EXPECT_FLOAT_EQ(discArea(on({-0.5f, 0.3f, 0}, 0), r, sampler, stats), kPi * r * r);
+    EXPECT_NEAR(discShare(scene, on({-0.01f, -0.3f, 0}, 0), r), 1.0, 0.01);  // two floors, in plain view
+    // 0.01 from the wall: the part of the disc beyond it, r^2 acos(d / r) - d sqrt(r^2 - d^2), drops out.
+    double beyond = (r * r * std::acos(0.2) - 0.01 * std::sqrt(r * r - 0.0001)) / (kPi * r * r);
+    EXPECT_NEAR(discShare(scene, on({-0.01f, 0.3f, 0}, 0), r), 1 - beyond, 0.02);
+    EXPECT_NEAR(discShare(scene, on({1, 0.3f, 0}, 1), r), 0.5, 0.02);     // an open edge
+    // The strip's share: the disc's area between x = -0.01 and 0.01 over pi r^2 (radius 0.02: 0.609);
+    // with radius 0.05 it is 0.253, and a sliver's share is never read below kMinDiscShare.
+    auto stripShare = [](double r) {
+        double w = 0.01;
+        return 2 * (w * std::sqrt(r * r - w * w) + r * r * std::asin(w / r)) / (kPi * r * r);
+    };
+    EXPECT_NEAR(discShare(scene, on({-0.5f, 0.3f, 0.5f}, 3), 0.02f), stripShare(0.02), 0.01);
+    EXPECT_GE(discShare(scene, on({-0.5f, 0.3f, 0.5f}, 3), 0.2f), kMinDiscShare);
+    EXPECT_EQ(discArea({Vec3(0.0f), up}, r, sampler, stats), kPi * r * r);  // no scene: the whole disc
+}
+
 // ---------------------------------------------------------------------------------------
 // Rendering
 
@@ -459,6 +509,22 @@ TEST(PhotonMapRender, PhotonRecordsStayOffThinStrips) {
     Render r = render(scene, "photonMapIrradianceCache", 64, 4, {{"photons", 2e6}}, 1);
     EXPECT_GT(r.stats.integrator.at("globalMapPhotons"), 10000);  // photons do reach the strips
     EXPECT_NEAR(channelMean(r.rgb, 1) / expected, 1, 0.03);
+}
+
+TEST(PhotonMapRender, ProgressiveWideDiscsReadThinStripsRight) {
+    // The strips of the test above read by a progressive photon map with few photons a pass: its
+    // first discs (4 pixels, 0.04 in radius) are wider than a strip, and hold too few of its
+    // photons to tell their coverage, so the strips read dark by the share of the disc they leave
+    // empty unless the disc's surface is measured (disc_area.h). Over seeds 1-8 the ratio to the
+    // path tracer measured 1.019 (sd 0.0075); without the measure, 0.40.
+    Scene reference;
+    buildStripsOverAFloor(reference);
+    double expected = channelMean(renderImage(reference, "path", 64, 256, {}, 9), 1);
+    ASSERT_GT(expected, 0);
+    Scene scene;
+    buildStripsOverAFloor(scene);
+    Render r = render(scene, "progressivePhotonMap", 64, 64, {{"photonsPerPass", 20000}, {"initialRadius", 4}}, 1);
+    EXPECT_NEAR(channelMean(r.rgb, 1) / expected, 1, 0.05);
 }
 
 TEST(PhotonMapRender, ThinWallKeepsTheDarkSideDark) {
