@@ -367,6 +367,7 @@ public:
             PhotonEmission e;
             e.ray.d = -dir;
             e.power = Color(0.0f);
+            e.fromPortal = true;
             float pdfArea;
             int i = portals_->samplePoint(byProjectedArea_, uPos, &e.ray.o, &pdfArea);
             float cosine = i < 0 ? 0 : dot(-dir, portals_->portals()[size_t(i)].travel);
@@ -463,6 +464,7 @@ public:
             // portal's direction: L(wi) cos / (cos / pi) / pdfArea.
             PhotonEmission e;
             e.power = Color(0.0f);
+            e.fromPortal = true;
             float pdfArea;
             int i = portals_->samplePoint(portals_->byArea(), uPos, &e.ray.o, &pdfArea);
             if (i < 0 || !(pdfArea > 0)) return e;

@@ -52,6 +52,9 @@ struct LightSample {
 struct PhotonEmission {
     Ray ray;
     Color power;  // flux carried, already divided by the sampling pdfs
+    // Started on a portal inside the scene (portal.h): the light reaches the origin only if the
+    // way back along -ray.d is clear, which the photon tracer tests.
+    bool fromPortal = false;
 };
 
 class Light {

@@ -23,6 +23,9 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
     PhotonEmission emission = scene_.lights()[light]->emit(uPosition, uDirection, scene_.photonBounds(), time);
     Color beta = emission.power / float(double(pmf) * density * emitted);
     if (!isFinite(beta) || isBlack(beta) || !isFinite(emission.ray.o) || !isFinite(emission.ray.d)) return light;
+    // A portal's photon carries light only if the sky or sun is seen from its origin: outside the
+    // opening, walls, roofs and window reveals shade it as they shade the opening.
+    if (emission.fromPortal && scene_.occluded(emission.ray.o, -emission.ray.d, kInf, stats, time)) return light;
     Ray ray = emission.ray;
     ray.time = time;
     PhotonPath path = PhotonPath::Direct;
