@@ -26,7 +26,8 @@ SPP = 8
 #   irradianceCache 1.0044 (0.0127), adaptiveIrradianceCache 0.9843 (0.0058): the records' noise
 #     at the default 108 paths moves a 64x48 image's mean by about 1%;
 #   photonMapIrradianceCache 0.9978 (0.0126), photonMapFinalGather 0.9963 (0.0028);
-#   progressivePhotonMap 0.9901 (0.0035): consistent but biased dark at few iterations, its
+#   progressivePhotonMap 0.9920 (0.0034) since its lookups measure the surface in their disc
+#     (disc_area.h; 0.9901 (0.0035) before): consistent but biased dark at few iterations, its
 #     radius falling as N^(-1/6) and its bias as N^(-1/3), so it is held to its measured bias at
 #     8 spp, and test_progressive_photon_map_converges below to the bias's rate of fall.
 #   (Before photon estimates were corrected for the share of their disc the surface covers
@@ -37,7 +38,7 @@ SPP = 8
 # 4 and 5 of photonMapIrradianceCache, 4 of adaptiveIrradianceCache, 4, 5 and 8 of
 # progressivePhotonMap fail it.)
 MEAN_BOUNDS = {"irradianceCache": 0.056, "adaptiveIrradianceCache": 0.039, "photonMapIrradianceCache": 0.053,
-               "photonMapFinalGather": 0.015, "progressivePhotonMap": 0.024}
+               "photonMapFinalGather": 0.015, "progressivePhotonMap": 0.022}
 TECHNIQUES = sorted(MEAN_BOUNDS)
 
 
