@@ -53,4 +53,12 @@ float discArea(const PhotonLookup& at, float radius, Sampler& sampler, RayStats&
     return full * std::max(float(counted / kDiscProbes), kMinDiscShare);
 }
 
+Color overSurfaceInDisc(const PhotonEstimate& e, bool shrank, const PhotonLookup& at, Sampler& sampler,
+                        RayStats& stats) {
+    if (e.photons == 0) return Color(0.0f);
+    if (shrank) return e.coverageCorrected();
+    if (e.fillsDisc()) return e.value;  // many photons, spread over the whole disc: no probe needed
+    return e.value * (kPi * e.radius * e.radius / discArea(at, e.radius, sampler, stats));
+}
+
 }  // namespace gi

@@ -1,5 +1,6 @@
 #include "photon_final_gather.h"
 
+#include "disc_area.h"
 #include "path.h"
 #include "specular_chain.h"
 
@@ -116,7 +117,9 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
             } else {
                 // No precomputed photon near enough where photons are sparse (4 times sparser
                 // than the global map's): the global map's own estimate, rather than darkness.
-                E = maps_.global.irradiance(at, settings_.photons.gatherPhotons, maps_.gatherRadius).coverageCorrected();
+                int k = settings_.photons.gatherPhotons;
+                PhotonEstimate e = maps_.global.irradiance(at, k, maps_.gatherRadius);
+                E = overSurfaceInDisc(e, e.photons >= k - 1, at, sampler, stats);
                 fallbackLookups_.fetch_add(1, std::memory_order_relaxed);
             }
             L += weight * reflectance * E * kInvPi;

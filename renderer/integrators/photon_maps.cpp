@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "disc_area.h"
 #include "photon_emitters.h"
 #include "photon_tracer.h"
 
@@ -15,7 +16,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-constexpr uint32_t kGlobalStream = 0x6170001u, kCausticStream = 0x6170002u;
+constexpr uint32_t kGlobalStream = 0x6170001u, kCausticStream = 0x6170002u, kIrradianceStream = 0x6170003u;
 
 // The requested count as a photon count, clamped to what a map can hold.
 uint32_t photonCount(const Scene& scene, double requested, const char* parameter) {
@@ -40,10 +41,14 @@ std::vector<Photon> irradiancePhotons(const PreprocessContext& context, const Ph
     std::vector<Photon> result;
     auto estimate = [&](size_t begin, size_t end) {
         tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, 256), [&](const tbb::blocked_range<size_t>& r) {
+            Sampler sampler(context.seed);
+            RayStats stats;
             for (size_t i = r.begin(); i < r.end(); ++i) {
                 Photon photon = global.tree()[uint32_t(i * stride)];
-                PhotonEstimate e = global.irradiance(PhotonLookup{photon.p, photon.n(), photon.surface, &scene}, k, maxRadius);
-                photon.power = e.coverageCorrected();
+                PhotonLookup at{photon.p, photon.n(), photon.surface, &scene};
+                PhotonEstimate e = global.irradiance(at, k, maxRadius);
+                sampler.startStream(kIrradianceStream, uint32_t(i));
+                photon.power = overSurfaceInDisc(e, e.photons >= k - 1, at, sampler, stats);
                 result[i] = photon;
             }
         });

@@ -82,12 +82,8 @@ Color ProgressivePhotonMapIntegrator::indirect(const Scene& scene, const Shading
     lookups_.fetch_add(1, std::memory_order_relaxed);
     PhotonEstimate e = maps_[iteration].radiance(sp, scene, kMaxLookupPhotons, radius);
     photonsFound_.fetch_add(uint64_t(e.photons), std::memory_order_relaxed);
-    if (e.photons == 0) return Color(0.0f);
     // A disc full of photons shrank to the k-th: its coverage is read from them.
-    if (e.photons >= kMaxLookupPhotons - 1) return e.coverageCorrected();
-    if (e.fillsDisc()) return e.value;  // many photons, spread over the whole disc: no probe needed
-    float full = kPi * radius * radius;
-    return e.value * (full / discArea(PhotonLookup::at(sp, scene), radius, sampler, stats));
+    return overSurfaceInDisc(e, e.photons >= kMaxLookupPhotons - 1, PhotonLookup::at(sp, scene), sampler, stats);
 }
 
 std::map<std::string, double> ProgressivePhotonMapIntegrator::statistics() const {
