@@ -6,7 +6,8 @@
 // flattened disc, visibility; photon_map.h) cover only part of it, and dividing by pi r^2
 // reads dark by that share. PhotonEstimate::coverage infers the share from the photons'
 // spread, which needs many photons; a progressive photon map's early, wide discs hold a
-// photon or less on average (Sibenik under its sky: 0.3), so there the share is measured:
+// photon or less on average (Sibenik under its sky: 0.3), as do final gathering's reads of a
+// sparse global map at its largest radius, so there the share is measured:
 // rays cast down through the disc along its normal, each counting the surface it first meets
 // if a photon stored there would pass the lookup's guards, weighted by the surface's area per
 // projected area (its tilt). The probes are a randomly shifted Fibonacci lattice over the

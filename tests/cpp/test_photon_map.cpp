@@ -540,12 +540,17 @@ void buildStripsOverAFloor(Scene& scene) {
     scene.setCamera(camera);
 }
 
+// The strips scene's green mean, path-traced at 256 spp: the photon techniques' reference.
+double stripsPathTracedMean() {
+    Scene reference;
+    buildStripsOverAFloor(reference);
+    return channelMean(renderImage(reference, "path", 64, 256, {}, 9), 1);
+}
+
 TEST(PhotonMapRender, PhotonRecordsStayOffThinStrips) {
     // Over seeds 1-8 the ratio to a 256-spp path-traced image measured 1.0023 (sd 0.0069):
     // |bias| + 4 sd = 3%. Photon records on the strips (no coverage rule) read 0.71-0.73.
-    Scene reference;
-    buildStripsOverAFloor(reference);
-    double expected = channelMean(renderImage(reference, "path", 64, 256, {}, 9), 1);
+    double expected = stripsPathTracedMean();
     ASSERT_GT(expected, 0);
     Scene scene;
     buildStripsOverAFloor(scene);
@@ -560,9 +565,7 @@ TEST(PhotonMapRender, ProgressiveWideDiscsReadThinStripsRight) {
     // photons to tell their coverage, so the strips read dark by the share of the disc they leave
     // empty unless the disc's surface is measured (disc_area.h). Over seeds 1-8 the ratio to the
     // path tracer measured 1.019 (sd 0.0075); without the measure, 0.40.
-    Scene reference;
-    buildStripsOverAFloor(reference);
-    double expected = channelMean(renderImage(reference, "path", 64, 256, {}, 9), 1);
+    double expected = stripsPathTracedMean();
     ASSERT_GT(expected, 0);
     Scene scene;
     buildStripsOverAFloor(scene);

@@ -25,7 +25,8 @@ SPP = 8
 # 100-104, 0.08136; one reference's own relative sd 0.0007, added in quadrature), mean (sd):
 #   irradianceCache 1.0044 (0.0127), adaptiveIrradianceCache 0.9843 (0.0058): the records' noise
 #     at the default 108 paths moves a 64x48 image's mean by about 1%;
-#   photonMapIrradianceCache 0.9978 (0.0126), photonMapFinalGather 0.9963 (0.0028);
+#   photonMapIrradianceCache 0.9978 (0.0126), photonMapFinalGather 0.9963 (0.0028) (0.9981
+#     (0.0015) since its precomputed irradiance measures the surface in sparse discs);
 #   progressivePhotonMap 0.9920 (0.0034) since its lookups measure the surface in their disc
 #     (disc_area.h; 0.9901 (0.0035) before): consistent but biased dark at few iterations, its
 #     radius falling as N^(-1/6) and its bias as N^(-1/3), so it is held to its measured bias at
