@@ -1,8 +1,10 @@
 """testusdview script: usdview as a person would use it with Gi. Run as
     testusdview --testScript usdview_session.py --renderer Gi --camera /World/Camera SCENE
 with GI_USDVIEW_OUT naming a folder; writes screenshots and results.json there."""
+import ctypes
 import json
 import os
+import sys
 import time
 from pathlib import Path
 
@@ -53,7 +55,21 @@ def window_position(app, point):
     return x0 + (ndc[0] * 0.5 + 0.5) * width, y0 + (0.5 - ndc[1] * 0.5) * height
 
 
+def outlast_lost_none_references():
+    """usdview's StageView.updateGL (PySide6 6.12 under OpenUSD 24.11's Python 3.11) drops a
+    reference to None on every call, with Storm as with Gi (measured: -1.00 per call), and usdview
+    calls it for every progressive frame: this session loses about 34,000 of None's 60,000
+    references (results.json, none_references_lost). None is not immortal before Python 3.12, so
+    its count reached zero at exit and testusdview aborted ("none_dealloc"), after every check had
+    run, in 5 of 6 runs, at this commit as at earlier ones. The session adds references it never
+    drops, so the interpreter ends as it would without that bug; hdGi's own teardown still runs."""
+    if sys.version_info < (3, 12):
+        ctypes.c_ssize_t.from_address(id(None)).value += 1 << 30
+
+
 def testUsdviewInputFunction(app):
+    outlast_lost_none_references()
+    none_references = sys.getrefcount(None)
     results = {"errors": []}
     view = app._stageView
     app._dataModel.viewSettings.showHUD = False
@@ -150,4 +166,5 @@ def testUsdviewInputFunction(app):
         converge(app)
         memory.append(resident_mb())
     results["resident_mb"] = memory
+    results["none_references_lost"] = none_references - sys.getrefcount(None)
     (OUT / "results.json").write_text(json.dumps(results, indent=1, default=str))
