@@ -6,8 +6,9 @@
 //   the path tracer stays unbiased even where the portals do not cover every opening;
 // - photons of dome and distant lights start on the portals instead of a disc over the whole
 //   scene, so all of them enter the interior; one whose way back to the sky is blocked outside
-//   the portal (a roof, a window reveal) carries nothing, as a shadow ray would. That assumes the portals cover every opening the
-//   light comes through (light through others is not emitted as photons), as in Karma.
+//   the portal (a roof, a window reveal) carries nothing, as a shadow ray would. That assumes
+//   the portals cover every opening the light comes through (light through others is not
+//   emitted as photons), as in Karma.
 // A portal is a rectangle: corner + s e1 + t e2, s, t in [0, 1); `travel` is its unit -Z.
 #pragma once
 #include <memory>

@@ -53,10 +53,9 @@ float discArea(const PhotonLookup& at, float radius, Sampler& sampler, RayStats&
     return full * std::max(float(counted / kDiscProbes), kMinDiscShare);
 }
 
-Color overSurfaceInDisc(const PhotonEstimate& e, bool shrank, const PhotonLookup& at, Sampler& sampler,
-                        RayStats& stats) {
+Color overSurfaceInDisc(const PhotonEstimate& e, int k, const PhotonLookup& at, Sampler& sampler, RayStats& stats) {
     if (e.photons == 0) return Color(0.0f);
-    if (shrank) return e.coverageCorrected();
+    if (e.photons >= k - 1) return e.coverageCorrected();  // the k-th photon set the radius
     if (e.fillsDisc()) return e.value;  // many photons, spread over the whole disc: no probe needed
     return e.value * (kPi * e.radius * e.radius / discArea(at, e.radius, sampler, stats));
 }

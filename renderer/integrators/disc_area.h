@@ -29,11 +29,10 @@ inline constexpr float kMinDiscShare = 0.25f;  // the least share of pi r^2 divi
 // seen edge-on) is not multiplied by the whole disc's share of it.
 float discArea(const PhotonLookup& at, float radius, Sampler& sampler, RayStats& stats);
 
-// A lookup's estimate read as a density over the surface in its disc: where `shrank` (k photons
-// set the radius) its coverage says where the surface is (coverageCorrected); where photons fill
+// A k-nearest lookup's estimate read as a density over the surface in its disc: where k photons
+// set the radius, their coverage says where the surface is (coverageCorrected); where photons fill
 // the disc it stands; else (a disc at its largest radius with few photons) it is divided by the
 // area discArea measures instead of pi r^2.
-Color overSurfaceInDisc(const PhotonEstimate& e, bool shrank, const PhotonLookup& at, Sampler& sampler,
-                        RayStats& stats);
+Color overSurfaceInDisc(const PhotonEstimate& e, int k, const PhotonLookup& at, Sampler& sampler, RayStats& stats);
 
 }  // namespace gi

@@ -118,8 +118,7 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
                 // No precomputed photon near enough where photons are sparse (4 times sparser
                 // than the global map's): the global map's own estimate, rather than darkness.
                 int k = settings_.photons.gatherPhotons;
-                PhotonEstimate e = maps_.global.irradiance(at, k, maps_.gatherRadius);
-                E = overSurfaceInDisc(e, e.photons >= k - 1, at, sampler, stats);
+                E = overSurfaceInDisc(maps_.global.irradiance(at, k, maps_.gatherRadius), k, at, sampler, stats);
                 fallbackLookups_.fetch_add(1, std::memory_order_relaxed);
             }
             L += weight * reflectance * E * kInvPi;

@@ -46,9 +46,8 @@ std::vector<Photon> irradiancePhotons(const PreprocessContext& context, const Ph
             for (size_t i = r.begin(); i < r.end(); ++i) {
                 Photon photon = global.tree()[uint32_t(i * stride)];
                 PhotonLookup at{photon.p, photon.n(), photon.surface, &scene};
-                PhotonEstimate e = global.irradiance(at, k, maxRadius);
                 sampler.startStream(kIrradianceStream, uint32_t(i));
-                photon.power = overSurfaceInDisc(e, e.photons >= k - 1, at, sampler, stats);
+                photon.power = overSurfaceInDisc(global.irradiance(at, k, maxRadius), k, at, sampler, stats);
                 result[i] = photon;
             }
         });

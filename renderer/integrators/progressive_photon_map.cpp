@@ -82,8 +82,7 @@ Color ProgressivePhotonMapIntegrator::indirect(const Scene& scene, const Shading
     lookups_.fetch_add(1, std::memory_order_relaxed);
     PhotonEstimate e = maps_[iteration].radiance(sp, scene, kMaxLookupPhotons, radius);
     photonsFound_.fetch_add(uint64_t(e.photons), std::memory_order_relaxed);
-    // A disc full of photons shrank to the k-th: its coverage is read from them.
-    return overSurfaceInDisc(e, e.photons >= kMaxLookupPhotons - 1, PhotonLookup::at(sp, scene), sampler, stats);
+    return overSurfaceInDisc(e, kMaxLookupPhotons, PhotonLookup::at(sp, scene), sampler, stats);
 }
 
 std::map<std::string, double> ProgressivePhotonMapIntegrator::statistics() const {

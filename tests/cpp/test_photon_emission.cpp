@@ -84,17 +84,23 @@ double expectedIrradiance(const Scene& scene, Vec3 p, int skyRays, bool sky = tr
     return E + (sky ? kPi * kSkyRadiance * double(visible) / skyRays : 0.0);
 }
 
-// Mean photon and shadow-ray irradiance over a grid of floor points within `half` of the centre.
+// A grid of 11 x 11 floor points within `half` of the centre.
+std::vector<Vec3> floorGrid(float half) {
+    std::vector<Vec3> points;
+    for (float x = -half; x <= half + 1e-4f; x += half / 5)
+        for (float z = -half; z <= half + 1e-4f; z += half / 5) points.emplace_back(x, 0, z);
+    return points;
+}
+
+// Mean photon and shadow-ray irradiance over floorGrid(half).
 std::pair<double, double> compare(const Scene& scene, const PhotonMaps& maps, float half, int k, bool sky = true) {
     double photon = 0, expected = 0;
     int n = 0;
-    for (float x = -half; x <= half + 1e-4f; x += half / 5)
-        for (float z = -half; z <= half + 1e-4f; z += half / 5) {
-            Vec3 p(x, 0, z);
-            photon += maps.global.irradiance({p, Vec3(0, 1, 0)}, k, 10).value.x;
-            expected += expectedIrradiance(scene, p, sky ? 4096 : 0, sky);
-            ++n;
-        }
+    for (Vec3 p : floorGrid(half)) {
+        photon += maps.global.irradiance({p, Vec3(0, 1, 0)}, k, 10).value.x;
+        expected += expectedIrradiance(scene, p, sky ? 4096 : 0, sky);
+        ++n;
+    }
     std::printf("[ irradiance ] photon map %.4f, shadow rays %.4f (ratio %.4f)\n", photon / n, expected / n, photon / expected);
     return {photon / n, expected / n};
 }
@@ -185,8 +191,7 @@ TEST(PhotonEmission, PortalPhotonsAreShadedOutsideThePortal) {
     buildHalfOpenBox(open);
     open.commit();
     double unshaded = 0;
-    for (float x = -0.6f; x <= 0.6f + 1e-4f; x += 0.12f)
-        for (float z = -0.6f; z <= 0.6f + 1e-4f; z += 0.12f) unshaded += expectedIrradiance(open, Vec3(x, 0, z), 4096) / 121;
+    for (Vec3 p : floorGrid(0.6f)) unshaded += expectedIrradiance(open, p, 4096) / 121;
     EXPECT_LT(expected, 0.8 * unshaded);  // the awning does shade the floor
     EXPECT_NEAR(photon, expected, 0.02 * expected);
 }

@@ -421,7 +421,7 @@ TEST(PhotonMapEstimate, FewPhotonsOnAStripReadItsDensity) {
         ASSERT_LT(e.photons, k - 1);
         sampler.startStream(1, uint32_t(n));
         plain += e.value.x;
-        measured += overSurfaceInDisc(e, false, at, sampler, stats).x;
+        measured += overSurfaceInDisc(e, k, at, sampler, stats).x;
     }
     std::printf("[ strip ] pi r^2: %.3f, surface in the disc: %.3f\n", plain / n, measured / n);
     EXPECT_NEAR(plain / n, 0.315, 0.06);

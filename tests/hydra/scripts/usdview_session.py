@@ -56,10 +56,11 @@ def window_position(app, point):
 
 
 def outlast_lost_none_references():
-    """usdview's StageView.updateGL (PySide6 6.12 under OpenUSD 24.11's Python 3.11) drops a
-    reference to None on every call, with Storm as with Gi (measured: -1.00 per call), and, by the
-    count, usdview's redraws of a progressing render lose more: this session loses about 34,000
-    of None's 60,000 references (results.json, none_references_lost) in about 40 settings calls. None is not immortal before Python 3.12, so
+    """usdview's StageView.SetRendererSetting (through its updateGL; PySide6 6.12 under OpenUSD
+    24.11's Python 3.11) drops a reference to None on every call, with Storm as with Gi
+    (measured: -1.00 per call), and, by the count, its redraws of a progressing render lose more:
+    this session loses about 34,000 of None's 60,000 references (results.json,
+    none_references_lost) in about 40 settings calls. None is not immortal before Python 3.12, so
     its count reached zero at exit and testusdview aborted ("none_dealloc"), after every check had
     run, in 5 of 6 runs, at this commit as at earlier ones. The session adds references it never
     drops, so the interpreter ends as it would without that bug; hdGi's own teardown still runs."""
