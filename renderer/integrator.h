@@ -62,6 +62,9 @@ struct PreprocessContext {
     // done; 0 = no limit. Work that can stop early (fill phases, refinement rounds) stops when
     // it passes; work that has to be sized up front (photon counts) sizes itself to end by it.
     double deadline = 0;
+    // In beginPass: the rays the render's passes have traced so far (a measure of their work
+    // that, unlike time, is the same in every run).
+    uint64_t passRays = 0;
     // Set by the renderer: counts the scaledDown() calls, for the render's statistics.
     std::atomic<int>* scaledDownCount = nullptr;
 

@@ -196,6 +196,7 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
     {
         PreprocessContext context{scene_, camera_, settings_.width, settings_.height, settings_.seed, cancel};
         context.deadline = deadline;  // the pass's setup stops with the render
+        context.passRays = stats_.rays;
         tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
         arena.execute([&] { integrator_->beginPass(context, firstSample, count); });
         if (cancel && cancel->load()) return PassEnd::Cancelled;

@@ -1,6 +1,7 @@
 #include "irradiance_cache.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace gi {
 
@@ -19,6 +20,20 @@ uint32_t IrradianceCache::insert(const IrradianceRecord& record) {
 
 void IrradianceCache::shrinkRadiusFactor(uint32_t id, float factor) {
     records_[id].radiusFactor = std::clamp(factor, 0.0f, records_[id].radiusFactor);
+}
+
+void IrradianceCache::addSamples(uint32_t id, const IrradianceRecord& more) {
+    IrradianceRecord& r = records_[id];
+    const float a = float(r.samples), b = float(more.samples), total = a + b;
+    if (!(b > 0)) return;
+    const float wa = a / total, wb = b / total;
+    r.E = r.E * wa + more.E * wb;
+    for (int c = 0; c < 3; ++c) {
+        r.rotationGradient[c] = r.rotationGradient[c] * wa + more.rotationGradient[c] * wb;
+        r.translationGradient[c] = r.translationGradient[c] * wa + more.translationGradient[c] * wb;
+    }
+    r.sigma = std::sqrt(wa * wa * r.sigma * r.sigma + wb * wb * more.sigma * more.sigma);
+    r.samples += more.samples;
 }
 
 template <class Visit>

@@ -22,6 +22,10 @@ public:
     const IrradianceRecord& record(uint32_t id) const { return records_[id]; }
     // Adaptive refinement's a_i (2.39): only shrinks, so the octree's boxes stay conservative.
     void shrinkRadiusFactor(uint32_t id, float factor);
+    // Merges `more` (new samples at the record's own site) into record `id`: its irradiance,
+    // gradients and sigma become those of all its samples; position, radius and distances stay,
+    // so the octree holds. Distinct ids may be refined on several threads at once.
+    void addSamples(uint32_t id, const IrradianceRecord& more);
     float accuracy() const { return accuracy_; }
 
     struct Contribution {

@@ -21,7 +21,8 @@ IrradianceCacheIntegrator::IrradianceCacheIntegrator(const IrradianceCacheSettin
     : DirectIntegrator(settings.record.rayDepth, settings.lightSamples),
       settings_(settings),
       recordSampler_(settings.record),
-      cache_(settings.record.accuracy) {}
+      cache_(settings.record.accuracy),
+      refinement_(recordSampler_.layout().cells()) {}
 
 RecordSite IrradianceCacheIntegrator::siteOf(const ShadingPoint& sp) const {
     return RecordSite{sp.si.p, sp.si.ng, recordNormal(sp), sp.wo, footprint_.at(sp.si.p)};
@@ -79,6 +80,14 @@ void IrradianceCacheIntegrator::fillFromPixelCentres(const PreprocessContext& co
     }
 }
 
+void IrradianceCacheIntegrator::beginPass(const PreprocessContext& context, int, int) {
+    if (!settings_.refineRecords || !recordSampler_.gathersLight()) return;
+    refinement_.beforePass(context, preprocessRecords_.rays.load(), cache_,
+                           [&](const RecordSite& site, uint32_t key, uint32_t before, RayStats& stats) {
+                               return recordSampler_.sample(context.scene, site, seed_, key, stats, before);
+                           });
+}
+
 Color IrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler,
                                           RayStats& stats) const {
     Color reflectance = sp.bsdf.diffuseReflectance();
@@ -108,19 +117,24 @@ Color IrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint
 }
 
 std::map<std::string, double> IrradianceCacheIntegrator::statistics() const {
-    double recordSeconds = (preprocessRecords_.nanoseconds.load() + renderRecords_.nanoseconds.load()) * 1e-9;
+    const RecordCounters& refined = refinement_.counters();
+    double recordSeconds =
+        (preprocessRecords_.nanoseconds.load() + renderRecords_.nanoseconds.load() + refined.nanoseconds.load()) * 1e-9;
     return {
         {"records", double(cache_.size())},
         {"recordSamplesClamped", double(recordSampler_.outliersClamped())},
         {"preprocessRecords", double(preprocessRecords_.records.load())},
         {"renderTimeRecords", double(renderRecords_.records.load())},
-        {"recordRays", double(preprocessRecords_.rays.load() + renderRecords_.rays.load())},
+        {"recordRays", double(preprocessRecords_.rays.load() + renderRecords_.rays.load() + refined.rays.load())},
         {"recordSeconds", recordSeconds},  // thread-seconds spent computing records
         {"interpolationSeconds", interpolationNanoseconds_.load() * 1e-9},  // thread-seconds in lookups
         {"preprocessSeconds", preprocessSeconds_},
         {"lookups", double(lookups_.load())},
         {"relaxedLookups", double(relaxedLookups_.load())},
         {"hemisphereCells", double(recordSampler_.layout().cells())},
+        {"recordRefinementRounds", double(refinement_.rounds())},
+        {"recordRefinementSeconds", refined.nanoseconds.load() * 1e-9},  // thread-seconds
+        {"recordPathsMean", RecordRefinement::meanSamples(cache_)},
         {"cacheBytes", double(cache_.memoryBytes())},
     };
 }

@@ -8,6 +8,7 @@
 // surface whose normal turned past alpha+) first retries with the limits relaxed by a pixel
 // and a doubled angle, and failing that computes a record for that sample alone, without
 // storing it: every thread sees the same cache, so the image does not depend on thread timing.
+// Between passes the records take more paths (record_refinement.h), unless refineRecords is off.
 #pragma once
 #include <atomic>
 
@@ -16,18 +17,21 @@
 #include "irradiance_record_sampler.h"
 #include "pixel_footprint.h"
 #include "progressive_fill.h"
+#include "record_refinement.h"
 
 namespace gi {
 
 struct IrradianceCacheSettings {
     RecordSettings record;
     int lightSamples = 1;
+    bool refineRecords = true;  // record_refinement.h; the thesis's cache is fixed after the fill
 };
 
 class IrradianceCacheIntegrator : public DirectIntegrator {
 public:
     explicit IrradianceCacheIntegrator(const IrradianceCacheSettings& settings);
     void preprocess(const PreprocessContext& context) override;
+    void beginPass(const PreprocessContext& context, int firstSample, int count) override;
     std::map<std::string, double> statistics() const override;
 
     const IrradianceCache& cache() const { return cache_; }
@@ -52,6 +56,7 @@ protected:
     uint32_t seed_ = 0;
     double preprocessSeconds_ = 0;
     RecordCounters preprocessRecords_;
+    RecordRefinement refinement_;
 
     // Render-time counters (the render runs on many threads through const Li).
     mutable RecordCounters renderRecords_;

@@ -25,6 +25,11 @@ struct IrradianceRecord {
     float radiusFactor = 1;  // a_i of adaptive refinement (2.36): only ever shrinks
     float sigma = 0;         // standard deviation of the estimate of Y(E), for 2.38
     float footprint = 0;     // world size of a pixel at the record
+    // Where its hemisphere rays leave from (RecordSite's ng and wo, with p, n and footprint
+    // above), and how many it has averaged: record_refinement.h adds more. 0 for a record that
+    // is not path traced (a photon estimate), which is never refined.
+    Vec3 ng, wo;
+    uint32_t samples = 0;
 
     float influenceRadius() const { return radius * radiusFactor; }
 

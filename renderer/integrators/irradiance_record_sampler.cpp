@@ -34,10 +34,10 @@ IrradianceRecordSampler::IrradianceRecordSampler(const RecordSettings& settings)
       // The continuation starts at the record path's second vertex, so it gets one vertex less.
       continuation_(1, continuationDepth(settings.pathDepth), settings.rayDepth, std::max(0, settings.rouletteDepth - 1)) {}
 
-uint32_t IrradianceRecordSampler::streamKey(const RecordSite& site) {
+uint32_t IrradianceRecordSampler::streamKey(const RecordSite& site, uint32_t round) {
     uint32_t h = 0x1c0ffee5u;
     for (float v : {site.p.x, site.p.y, site.p.z, site.n.x, site.n.y, site.n.z}) h = hashCombine(h, std::bit_cast<uint32_t>(v));
-    return h;
+    return round == 0 ? h : hashCombine(h, round);
 }
 
 Color IrradianceRecordSampler::bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi,
@@ -65,7 +65,7 @@ Color IrradianceRecordSampler::bouncedRadiance(const Scene& scene, const Surface
 }
 
 IrradianceRecord IrradianceRecordSampler::sample(const Scene& scene, const RecordSite& site, uint32_t seed,
-                                                 uint32_t streamKey, RayStats& stats) const {
+                                                 uint32_t streamKey, RayStats& stats, uint32_t samplesBefore) const {
     const int M = layout_.polar, N = layout_.azimuthal, cells = M * N;
     Frame frame(site.n);
     SurfaceInteraction origin;
@@ -82,6 +82,9 @@ IrradianceRecord IrradianceRecordSampler::sample(const Scene& scene, const Recor
     record.p = site.p;
     record.n = site.n;
     record.footprint = site.footprint;
+    record.ng = site.ng;
+    record.wo = site.wo;
+    record.samples = uint32_t(cells);
     Color sum(0.0f);
     double inverseDistanceSum = 0;
     float minDistance = kInf;
@@ -104,7 +107,7 @@ IrradianceRecord IrradianceRecordSampler::sample(const Scene& scene, const Recor
                 minDistance = std::min(minDistance, R[c]);
             }
         }
-    outliersClamped_.fetch_add(uint64_t(clampRecordOutliers(L)), std::memory_order_relaxed);
+    outliersClamped_.fetch_add(uint64_t(clampRecordOutliers(L, samplesBefore + size_t(cells))), std::memory_order_relaxed);
     for (const Color& l : L) sum += l;
     const float cellWeight = kPi / cells;  // cosine-weighted estimator: E = pi / (M N) sum L
     record.E = sum * cellWeight;

@@ -34,6 +34,11 @@ inline Vec3 recordRayOrigin(const RecordSite& site) {
     return site.p + site.wo * (1e-3f * site.footprint + pointErrorBound(site.p));
 }
 
+// The site a path-traced record was computed at.
+inline RecordSite siteOf(const IrradianceRecord& record) {
+    return RecordSite{record.p, record.ng, record.n, record.wo, record.footprint};
+}
+
 struct RecordSettings {
     int paths = 108;        // M N hemisphere rays
     int pathDepth = kDepthCap;  // scattering vertices of a record's paths, counting the record's own
@@ -60,13 +65,15 @@ public:
 
     // Samples the hemisphere above `site`. The random numbers come from stream `streamKey` of
     // a sampler seeded with `seed`, cell c using the stream's sample c, so a record depends on
-    // (seed, key, site) only.
+    // (seed, key, site) only. `samplesBefore`: the samples the record already has, when these
+    // are to be added to it (record_refinement.h); they set the outlier bound (record_outliers.h).
     IrradianceRecord sample(const Scene& scene, const RecordSite& site, uint32_t seed, uint32_t streamKey,
-                            RayStats& stats) const;
+                            RayStats& stats, uint32_t samplesBefore = 0) const;
 
     // A stream key from a site's position and normal bits: the same site always gets the same
-    // random numbers, whichever pass or thread computes it.
-    static uint32_t streamKey(const RecordSite& site);
+    // random numbers, whichever pass or thread computes it. Round r > 0 of a refined record
+    // (record_refinement.h) takes the key of (site, r).
+    static uint32_t streamKey(const RecordSite& site, uint32_t round = 0);
 
 private:
     // Radiance arriving at the site from direction wi that has bounced at least once: the

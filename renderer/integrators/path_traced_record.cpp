@@ -44,7 +44,7 @@ Color PathTracedRecordSampler::bouncedRadiance(const Scene& scene, const Surface
 }
 
 IrradianceRecord PathTracedRecordSampler::sample(const Scene& scene, const RecordSite& site, uint32_t seed,
-                                                 uint32_t streamKey, RayStats& stats) const {
+                                                 uint32_t streamKey, RayStats& stats, uint32_t samplesBefore) const {
     const int M = layout_.polar, N = layout_.azimuthal;
     Frame frame(site.n);
     SurfaceInteraction origin;
@@ -68,13 +68,16 @@ IrradianceRecord PathTracedRecordSampler::sample(const Scene& scene, const Recor
             if (isFinite(L)) samples[size_t(j * N + k)] = vmax(L, Color(0.0f));  // one broken path must not poison a region
             minDistance = std::min(minDistance, std::max(distance, rMinus));
         }
-    outliersClamped_.fetch_add(uint64_t(clampRecordOutliers(samples)), std::memory_order_relaxed);
+    outliersClamped_.fetch_add(uint64_t(clampRecordOutliers(samples, samplesBefore + samples.size())), std::memory_order_relaxed);
     Color sum(0.0f);
     for (const Color& l : samples) sum += l;
     IrradianceRecord record;
     record.p = site.p;
     record.n = site.n;
     record.footprint = site.footprint;
+    record.ng = site.ng;
+    record.wo = site.wo;
+    record.samples = uint32_t(M * N);
     record.E = sum * (kPi / float(M * N));  // cosine-weighted estimator
     record.minDistance = minDistance;
     float radius = 0.5f * minDistance / settings_.accuracy;

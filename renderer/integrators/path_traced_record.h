@@ -23,9 +23,10 @@ public:
     PathTracedRecordSampler(const RecordSettings& settings, const CausticPhotons& caustics);
 
     // A record for `site` from stream `streamKey` of a sampler seeded with `seed`: cell c uses
-    // the stream's sample c, so a record depends on (seed, key, site) only.
+    // the stream's sample c, so a record depends on (seed, key, site) only. `samplesBefore` as
+    // in IrradianceRecordSampler::sample.
     IrradianceRecord sample(const Scene& scene, const RecordSite& site, uint32_t seed, uint32_t streamKey,
-                            RayStats& stats) const;
+                            RayStats& stats, uint32_t samplesBefore = 0) const;
     // Hemisphere samples clamped as outliers (record_outliers.h) so far.
     uint64_t outliersClamped() const { return outliersClamped_.load(std::memory_order_relaxed); }
 

@@ -61,7 +61,10 @@ IrradianceRecord PhotonMapIrradianceCacheIntegrator::computeRecord(const Scene& 
         return record;
     }
     counters.pathTracedRecords.fetch_add(1, std::memory_order_relaxed);
-    return recordSampler_->sample(scene, site, seed_, IrradianceRecordSampler::streamKey(site), stats);
+    const uint64_t raysBefore = stats.rays;
+    IrradianceRecord record = recordSampler_->sample(scene, site, seed_, IrradianceRecordSampler::streamKey(site), stats);
+    counters.pathTracedRays.fetch_add(stats.rays - raysBefore, std::memory_order_relaxed);
+    return record;
 }
 
 bool PhotonMapIrradianceCacheIntegrator::interpolate(const Scene& scene, const Site& site, bool relaxed,
@@ -95,6 +98,7 @@ void PhotonMapIrradianceCacheIntegrator::preprocess(const PreprocessContext& con
         caustics = CausticPhotons{&maps_.caustic, settings_.photons.gatherPhotons, maps_.gatherRadius, kCausticConeFilter,
                                   kRecordCausticShare};
     recordSampler_ = std::make_unique<PathTracedRecordSampler>(settings_.record, caustics);
+    refinement_ = std::make_unique<RecordRefinement>(HemisphereLayout::forPaths(settings_.record.paths).cells());
     auto start = std::chrono::steady_clock::now();
     cache_.reset(context.scene.bounds().center, context.scene.bounds().radius);
     recordSurfaces_.clear();
@@ -153,6 +157,14 @@ void PhotonMapIrradianceCacheIntegrator::fillFromPixelCentres(const PreprocessCo
     }
 }
 
+void PhotonMapIrradianceCacheIntegrator::beginPass(const PreprocessContext& context, int, int) {
+    if (!settings_.refineRecords || !refinement_) return;
+    refinement_->beforePass(context, preprocessRecords_.pathTracedRays.load(), cache_,
+                            [&](const RecordSite& site, uint32_t key, uint32_t before, RayStats& stats) {
+                                return recordSampler_->sample(context.scene, site, seed_, key, stats, before);
+                            });
+}
+
 Color PhotonMapIrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler,
                                                    RayStats& stats) const {
     Color L(0.0f);
@@ -184,6 +196,9 @@ std::map<std::string, double> PhotonMapIrradianceCacheIntegrator::statistics() c
     stats["lookups"] = double(lookups_.load());
     stats["cacheBytes"] = double(cache_.memoryBytes());
     stats["recordFillSeconds"] = fillSeconds_;
+    stats["recordRefinementRounds"] = refinement_ ? refinement_->rounds() : 0;
+    stats["recordRefinementSeconds"] = refinement_ ? refinement_->counters().nanoseconds.load() * 1e-9 : 0.0;
+    stats["pathTracedRecordPathsMean"] = RecordRefinement::meanSamples(cache_);
     return stats;
 }
 

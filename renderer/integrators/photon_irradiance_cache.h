@@ -19,7 +19,8 @@
 // The cache is filled before the render, coarse to fine over the pixel centres
 // (progressive_fill.h), in an order fixed by the pixels; a render-time lookup that finds no
 // record computes one for that sample alone without storing it, so the image does not depend
-// on thread timing.
+// on thread timing. Between passes the path-traced records take more paths
+// (record_refinement.h), unless refineRecords is off; photon records stay as they are.
 #pragma once
 #include <atomic>
 
@@ -28,6 +29,7 @@
 #include "path_traced_record.h"
 #include "photon_maps.h"
 #include "pixel_footprint.h"
+#include "record_refinement.h"
 
 namespace gi {
 
@@ -35,12 +37,14 @@ struct PhotonIrradianceCacheSettings {
     PhotonMapSettings photons;
     RecordSettings record;  // the path-traced fallback records, and the spacing limits of all records
     int lightSamples = 1;
+    bool refineRecords = true;  // more paths for the path-traced records between passes (record_refinement.h)
 };
 
 class PhotonMapIrradianceCacheIntegrator : public DirectIntegrator {
 public:
     explicit PhotonMapIrradianceCacheIntegrator(const PhotonIrradianceCacheSettings& settings);
     void preprocess(const PreprocessContext& context) override;
+    void beginPass(const PreprocessContext& context, int firstSample, int count) override;
     std::map<std::string, double> statistics() const override;
 
     const PhotonMaps& maps() const { return maps_; }
@@ -51,7 +55,7 @@ protected:
 
 private:
     struct Counters {
-        std::atomic<uint64_t> photonRecords{0}, pathTracedRecords{0};
+        std::atomic<uint64_t> photonRecords{0}, pathTracedRecords{0}, pathTracedRays{0};
     };
     // A record site and the surface it lies on (for the photon map's visibility guard).
     struct Site {
@@ -77,6 +81,7 @@ private:
     uint32_t seed_ = 0;
     double fillSeconds_ = 0;
     Counters preprocessRecords_;
+    std::unique_ptr<RecordRefinement> refinement_;  // made with the record sampler
     mutable Counters renderRecords_;
     mutable std::atomic<uint64_t> lookups_{0};
 };

@@ -37,6 +37,10 @@ const ParamInfo kAccuracy = ParamInfo{"accuracy", "float", 1, 0.01, 100,
                                       "k of the Tabellion-Lamorlette error: higher is more accurate, more records"};
 const ParamInfo kMinSpacing = ParamInfo{"minSpacing", "float", 1.5, 0.1, 1000, "smallest record radius, in pixels"};
 const ParamInfo kMaxSpacing = ParamInfo{"maxSpacing", "float", 10, 0.1, 10000, "largest record radius, in pixels"};
+const ParamInfo kRefineRecords = ParamInfo{
+    "refineRecords", "bool", 1, 0, 1,
+    "between passes, add hemisphere paths to every path-traced record (as many rays as the passes traced), "
+    "so the cache converges as the render goes on (0: records fixed after the fill, as the thesis)"};
 const ParamInfo kThreshold = ParamInfo{"threshold", "float", 0.02, 0, 1,
                                        "adaptive refinement: relative luminance change that is discernible (2.38)"};
 const ParamInfo kRefinementRounds =
@@ -84,6 +88,7 @@ IrradianceCacheSettings irradianceCacheSettings(const IntegratorInfo& info, cons
     s.record.minSpacing = float(paramValue(info, p, "minSpacing"));
     s.record.maxSpacing = float(paramValue(info, p, "maxSpacing"));
     s.lightSamples = int(paramValue(info, p, "lightSamples"));
+    s.refineRecords = paramValue(info, p, "refineRecords") != 0;
     return s;
 }
 
@@ -106,7 +111,8 @@ std::vector<IntegratorInfo> buildRegistry() {
     list.push_back(direct);
     IntegratorInfo irradianceCache{
         "irradianceCache", "ray tracing with indirect diffuse light from an irradiance cache (gradients, T&L error)",
-        {kRecordPaths, kPathDepth, kRayDepth, kRouletteDepth, kLightSamples, kAccuracy, kMinSpacing, kMaxSpacing},
+        {kRecordPaths, kPathDepth, kRayDepth, kRouletteDepth, kLightSamples, kAccuracy, kMinSpacing, kMaxSpacing,
+         kRefineRecords},
         nullptr};
     irradianceCache.create = [info = irradianceCache](const ParamSet& p) -> std::unique_ptr<Integrator> {
         return std::make_unique<IrradianceCacheIntegrator>(irradianceCacheSettings(info, p));
@@ -152,13 +158,16 @@ std::vector<IntegratorInfo> buildRegistry() {
         "photon mapping with an irradiance cache whose records are photon-map estimates (path-traced where photons are few)",
         {kPhotons, kCausticPhotons, kPhotonDepth,
          intParam("gatherPhotons", 100, 2, 100000, "photons per density estimate (k nearest)"), kMaxGatherRadius,
-         kPhotonRecordPaths, kPathDepth, kRayDepth, kRouletteDepth, kLightSamples, kAccuracy, kMinSpacing, kMaxSpacing},
+         kPhotonRecordPaths, kPathDepth, kRayDepth, kRouletteDepth, kLightSamples, kAccuracy, kMinSpacing, kMaxSpacing,
+         kRefineRecords},
         nullptr};
     photonCache.create = [info = photonCache](const ParamSet& p) -> std::unique_ptr<Integrator> {
         PhotonIrradianceCacheSettings s;
         s.photons = photonMapSettings(info, p);
-        s.record = irradianceCacheSettings(info, p).record;
-        s.lightSamples = int(paramValue(info, p, "lightSamples"));
+        IrradianceCacheSettings cache = irradianceCacheSettings(info, p);
+        s.record = cache.record;
+        s.lightSamples = cache.lightSamples;
+        s.refineRecords = cache.refineRecords;
         return std::make_unique<PhotonMapIrradianceCacheIntegrator>(s);
     };
     list.push_back(photonCache);
@@ -199,7 +208,8 @@ std::vector<IntegratorInfo> buildRegistry() {
 }
 
 // The thesis's parameter tables: 4.1-4.3 for the Cornell box ("Caixa"), 4.9-4.11 for Sibenik.
-// Depth 5 everywhere, and the path tracer's paths per sample; the rest are already the defaults
+// Depth 5 everywhere, the path tracer's paths per sample, and records fixed after the fill (the
+// thesis's caches are not refined between passes); the rest are already the defaults
 // (108 and 120 record paths, 500 000 photons, 16 final-gather rays), written out so the preset
 // keeps them if a default changes.
 std::vector<Preset> buildPresets() {
@@ -209,13 +219,14 @@ std::vector<Preset> buildPresets() {
         p.params["path"] = {{"paths", pathPaths}, {"pathDepth", depth}, {"rayDepth", depth}};
         p.params["direct"] = {{"rayDepth", depth}};
         for (const char* cache : {"irradianceCache", "adaptiveIrradianceCache"})
-            p.params[cache] = {{"paths", 108}, {"pathDepth", depth}, {"rayDepth", depth}};
+            p.params[cache] = {{"paths", 108}, {"pathDepth", depth}, {"rayDepth", depth}, {"refineRecords", 0}};
         p.params["photonMapFinalGather"] = {{"photons", 500000}, {"causticPhotons", 500000}, {"photonDepth", depth},
                                             {"finalGatherSamples", gatherSamples}, {"finalGatherDepth", depth},
                                             {"gatherDirectLight", 0}, {"gatherBounces", 0},
                                             {"rayDepth", depth}};
         p.params["photonMapIrradianceCache"] = {{"photons", 500000}, {"causticPhotons", 500000}, {"photonDepth", depth},
-                                                {"paths", 120}, {"pathDepth", depth}, {"rayDepth", depth}};
+                                                {"paths", 120}, {"pathDepth", depth}, {"rayDepth", depth},
+                                                {"refineRecords", 0}};
         return p;
     };
     return {thesis("thesis", "the thesis's tables 4.1-4.3 (Cornell box): depth 5, 8 paths per path-traced sample, "

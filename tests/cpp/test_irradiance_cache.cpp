@@ -435,16 +435,17 @@ TEST(RecordOutliers, ASunPathIsClampedAWindowIsNot) {
     std::vector<Color> before = window;
     EXPECT_EQ(clampRecordOutliers(window), 0);
     EXPECT_TRUE(same(window, before));
-    // One path through the glass to the sun, 10^5 times brighter: clamped to 256x the mean of
-    // the samples without the brightest 2% (here the sun and one window sample), hue kept; the
-    // rest untouched.
+    // One path through the glass to the sun, 10^5 times brighter: clamped so that it adds no
+    // more than kOutlierContribution times the mean of the samples without the brightest 2%
+    // (here the sun and one window sample) to the 108 samples' estimate - 256 times that mean -,
+    // hue kept; the rest untouched.
     std::vector<Color> sun = before;
     sun[7] = Color(2e4f, 1.8e4f, 1.6e4f);
     EXPECT_EQ(clampRecordOutliers(sun), 1);
     double kept = -luminance(Color(0.9f));
     for (size_t i = 0; i < sun.size(); ++i)
         if (i != 7) kept += luminance(before[i]);
-    EXPECT_NEAR(luminance(sun[7]), kOutlierFactor * kept / 106, 1e-3 * luminance(sun[7]));
+    EXPECT_NEAR(luminance(sun[7]), 256 * kept / 106, 1e-3 * luminance(sun[7]));
     EXPECT_NEAR(sun[7].x / sun[7].z, 2e4f / 1.6e4f, 1e-4);
     sun[7] = before[7];
     EXPECT_TRUE(same(sun, before));
@@ -452,4 +453,39 @@ TEST(RecordOutliers, ASunPathIsClampedAWindowIsNot) {
     std::vector<Color> dark(108, Color(0.0f));
     dark[3] = Color(1.0f);
     EXPECT_EQ(clampRecordOutliers(dark), 0);
+    // A path 10^4 times the others' is clamped in a record of 108 samples, but not when the same
+    // 108 are added to a record that already has 108 x 63: the bound is 64 times higher.
+    std::vector<Color> bright = before;
+    bright[7] = Color(500.0f);
+    EXPECT_EQ(clampRecordOutliers(bright), 1);
+    bright[7] = Color(500.0f);
+    EXPECT_EQ(clampRecordOutliers(bright, 108 * 64), 0);
+    EXPECT_EQ(bright[7].x, 500.0f);
+}
+
+// Records refined between passes (record_refinement.h): with few paths per record (32) the
+// cache's error is the records' noise, which a cache fixed after its fill keeps however many
+// samples the render takes; refined, the records get about as many rays as the passes, so the
+// error falls as the render goes on, the image stays unbiased, and it is still the same image on
+// any number of threads.
+TEST_F(CornellBox, RefinedRecordsConvergeAsTheRenderGoesOn) {
+    auto renderWith = [&](int spp, bool refine, int threads = 0) {
+        return render(*scene_, "irradianceCache", kSize, spp,
+                      {{"paths", 32}, {"accuracy", 4}, {"lightSamples", 4}, {"refineRecords", refine ? 1.0 : 0.0}}, 1, threads);
+    };
+    auto error = [&](const Rendered& r, int spp) {
+        return indirectError(blockLuminance(r.rgb, kSize), directBlocks(1, spp), *reference_);
+    };
+    Rendered fixed = renderWith(256, false), short_ = renderWith(16, true), long_ = renderWith(256, true);
+    IndirectError eFixed = error(fixed, 256), eShort = error(short_, 16), eLong = error(long_, 256);
+    std::printf("[ refined  ] indirect e^2: fixed %.5f (mean %.4f); refined 16 spp %.5f (%.0f paths per record), 256 spp "
+                "%.5f (%.0f paths, mean %.4f)\n",
+                eFixed.e2, eFixed.mean, eShort.e2, short_.stats.integrator.at("recordPathsMean"), eLong.e2,
+                long_.stats.integrator.at("recordPathsMean"), eLong.mean);
+    EXPECT_EQ(fixed.stats.integrator.at("recordPathsMean"), 32);
+    EXPECT_GT(long_.stats.integrator.at("recordPathsMean"), short_.stats.integrator.at("recordPathsMean"));
+    EXPECT_LT(eLong.e2, eShort.e2);
+    EXPECT_LT(eLong.e2, eFixed.e2);
+    EXPECT_NEAR(eLong.mean, 1.0, 0.0054);
+    EXPECT_EQ(renderWith(64, true, 1).rgb, renderWith(64, true).rgb) << "one thread vs all";
 }
