@@ -81,6 +81,11 @@ void IrradianceCacheIntegrator::fillFromPixelCentres(const PreprocessContext& co
 }
 
 void IrradianceCacheIntegrator::beginPass(const PreprocessContext& context, int, int) {
+    for (const RenderTimeRecords::Entry& e : renderTimeRecords_.take())
+        if (!cache_.covers(e.record.p, e.record.n)) {
+            cache_.insert(e.record);
+            ++adoptedRecords_;
+        }
     if (!settings_.refineRecords || !recordSampler_.gathersLight()) return;
     refinement_.beforePass(context, preprocessRecords_.rays.load(), cache_,
                            [&](const RecordSite& site, uint32_t key, uint32_t before, RayStats& stats) {
@@ -107,7 +112,9 @@ Color IrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint
         auto recordStart = Clock::now();
         RecordSite site = siteOf(sp);
         RayStats recordStats;
-        E = recordSampler_.sample(scene, site, seed_, IrradianceRecordSampler::streamKey(site), recordStats).E;
+        IrradianceRecord record = recordSampler_.sample(scene, site, seed_, IrradianceRecordSampler::streamKey(site), recordStats);
+        E = record.E;
+        renderTimeRecords_.add(record);
         stats.rays += recordStats.rays;
         renderRecords_.records.fetch_add(1, std::memory_order_relaxed);
         renderRecords_.rays.fetch_add(recordStats.rays, std::memory_order_relaxed);
@@ -125,6 +132,7 @@ std::map<std::string, double> IrradianceCacheIntegrator::statistics() const {
         {"recordSamplesClamped", double(recordSampler_.outliersClamped())},
         {"preprocessRecords", double(preprocessRecords_.records.load())},
         {"renderTimeRecords", double(renderRecords_.records.load())},
+        {"adoptedRenderTimeRecords", double(adoptedRecords_)},  // of those, inserted into the cache
         {"recordRays", double(preprocessRecords_.rays.load() + renderRecords_.rays.load() + refined.rays.load())},
         {"recordSeconds", recordSeconds},  // thread-seconds spent computing records
         {"interpolationSeconds", interpolationNanoseconds_.load() * 1e-9},  // thread-seconds in lookups

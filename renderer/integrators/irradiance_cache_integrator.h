@@ -8,7 +8,8 @@
 // surface whose normal turned past alpha+) first retries with the limits relaxed by a pixel
 // and a doubled angle, and failing that computes a record for that sample alone, without
 // storing it: every thread sees the same cache, so the image does not depend on thread timing.
-// Between passes the records take more paths (record_refinement.h), unless refineRecords is off.
+// Before the next pass those records join the cache (render_time_records.h), and the records take
+// more paths (record_refinement.h) unless refineRecords is off.
 #pragma once
 #include <atomic>
 
@@ -18,6 +19,7 @@
 #include "pixel_footprint.h"
 #include "progressive_fill.h"
 #include "record_refinement.h"
+#include "render_time_records.h"
 
 namespace gi {
 
@@ -60,6 +62,8 @@ protected:
 
     // Render-time counters (the render runs on many threads through const Li).
     mutable RecordCounters renderRecords_;
+    mutable RenderTimeRecords renderTimeRecords_;  // computed in this pass, inserted before the next
+    uint64_t adoptedRecords_ = 0;
     mutable std::atomic<uint64_t> lookups_{0}, relaxedLookups_{0}, interpolationNanoseconds_{0};
 };
 

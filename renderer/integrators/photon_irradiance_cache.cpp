@@ -54,6 +54,8 @@ IrradianceRecord PhotonMapIrradianceCacheIntegrator::computeRecord(const Scene& 
         record.n = site.n;
         record.E = estimate.value;
         record.footprint = site.footprint;
+        record.ng = site.ng;
+        record.wo = site.wo;
         record.radius = std::clamp(0.5f * estimate.radius / r.accuracy, r.minSpacing * site.footprint,
                                    std::max(r.minSpacing, r.maxSpacing) * site.footprint);
         record.sigma = luminance(estimate.value) / std::sqrt(float(estimate.photons));
@@ -158,6 +160,14 @@ void PhotonMapIrradianceCacheIntegrator::fillFromPixelCentres(const PreprocessCo
 }
 
 void PhotonMapIrradianceCacheIntegrator::beginPass(const PreprocessContext& context, int, int) {
+    for (const RenderTimeRecords::Entry& e : renderTimeRecords_.take()) {
+        Color E;
+        Site site{gi::siteOf(e.record), e.surface};
+        if (interpolate(context.scene, site, false, &E)) continue;
+        cache_.insert(e.record);
+        recordSurfaces_.push_back(e.surface);
+        ++adoptedRecords_;
+    }
     if (!settings_.refineRecords || !refinement_) return;
     refinement_->beforePass(context, preprocessRecords_.pathTracedRays.load(), cache_,
                             [&](const RecordSite& site, uint32_t key, uint32_t before, RayStats& stats) {
@@ -179,7 +189,9 @@ Color PhotonMapIrradianceCacheIntegrator::indirect(const Scene& scene, const Sha
     if (!interpolate(scene, site, false, &E) && !interpolate(scene, site, true, &E)) {
         // Nothing near enough: a record for this sample alone (a photon estimate, or a
         // path-traced record from a stream keyed by its site), not stored.
-        E = computeRecord(scene, site, stats, renderRecords_).E;
+        IrradianceRecord record = computeRecord(scene, site, stats, renderRecords_);
+        E = record.E;
+        renderTimeRecords_.add(record, site.surface);
     }
     return L + reflectance * E * kInvPi;
 }
@@ -193,6 +205,7 @@ std::map<std::string, double> PhotonMapIrradianceCacheIntegrator::statistics() c
     stats["renderTimeRecords"] =
         double(renderRecords_.photonRecords.load() + renderRecords_.pathTracedRecords.load());
     stats["renderTimePathTracedRecords"] = double(renderRecords_.pathTracedRecords.load());
+    stats["adoptedRenderTimeRecords"] = double(adoptedRecords_);  // of those, inserted into the cache
     stats["lookups"] = double(lookups_.load());
     stats["cacheBytes"] = double(cache_.memoryBytes());
     stats["recordFillSeconds"] = fillSeconds_;

@@ -19,8 +19,9 @@
 // The cache is filled before the render, coarse to fine over the pixel centres
 // (progressive_fill.h), in an order fixed by the pixels; a render-time lookup that finds no
 // record computes one for that sample alone without storing it, so the image does not depend
-// on thread timing. Between passes the path-traced records take more paths
-// (record_refinement.h), unless refineRecords is off; photon records stay as they are.
+// on thread timing. Before the next pass those records join the cache (render_time_records.h), and
+// the path-traced records take more paths (record_refinement.h) unless refineRecords is off;
+// photon records stay as they are.
 #pragma once
 #include <atomic>
 
@@ -30,6 +31,7 @@
 #include "photon_maps.h"
 #include "pixel_footprint.h"
 #include "record_refinement.h"
+#include "render_time_records.h"
 
 namespace gi {
 
@@ -83,6 +85,8 @@ private:
     Counters preprocessRecords_;
     std::unique_ptr<RecordRefinement> refinement_;  // made with the record sampler
     mutable Counters renderRecords_;
+    mutable RenderTimeRecords renderTimeRecords_;  // computed in this pass, inserted before the next
+    uint64_t adoptedRecords_ = 0;
     mutable std::atomic<uint64_t> lookups_{0};
 };
 

@@ -489,3 +489,36 @@ TEST_F(CornellBox, RefinedRecordsConvergeAsTheRenderGoesOn) {
     EXPECT_NEAR(eLong.mean, 1.0, 0.0054);
     EXPECT_EQ(renderWith(64, true, 1).rgb, renderWith(64, true).rgb) << "one thread vs all";
 }
+
+// A lookup that finds no record computes one for its sample alone (render_time_records.h); the
+// records of one pass join the cache before the next, so later passes find them: per sample, the
+// fifth pass computes a small share of what the first two did. (Before, every pass computed them
+// again: on Sibenik at 32 spp four times as many as the cache held.) Slats a tenth of a pixel
+// wide stand on the corner's floor: the fill's pixel centres see few of them, jittered samples
+// many others.
+TEST(IrradianceCacheRender, RenderTimeRecordsJoinTheCacheForTheNextPass) {
+    auto misses = [&](int spp) {
+        Scene scene;
+        buildCorner(scene);
+        int white = scene.addMaterial(lambert(Color(0.8f)));
+        for (int i = 0; i < 48; ++i) {
+            float z = -0.9f + 0.0375f * float(i), x = 0.3f + 0.05f * float(i % 7);
+            std::string name = "/Slat" + std::to_string(i);
+            addQuad(scene, name.c_str(), {x, 0, z}, {x, 1.2f, z}, {x + 0.008f, 1.2f, z + 0.008f}, {x + 0.008f, 0, z + 0.008f},
+                    white);
+        }
+        Rendered r = render(scene, "irradianceCache", 64, spp, {{"paths", 32}});
+        return std::make_pair(r.stats.integrator.at("renderTimeRecords"), r.stats.integrator.at("adoptedRenderTimeRecords"));
+    };
+    // Passes of 1, 2, 4, 8 and 16 samples.
+    auto [one, adoptedAfterOne] = misses(1);
+    double three = misses(3).first, fifteen = misses(15).first;
+    auto [thirtyOne, adopted] = misses(31);
+    double first = one, second = (three - one) / 2, fifth = (thirtyOne - fifteen) / 16;
+    std::printf("[ adopted  ] render-time records per sample: passes 1, 2 and 5 %.1f, %.1f, %.2f; %.0f joined the cache\n",
+                first, second, fifth, adopted);
+    EXPECT_EQ(adoptedAfterOne, 0);  // nothing after the last pass
+    EXPECT_GT(first, 10);
+    EXPECT_GT(adopted, first);
+    EXPECT_LT(fifth, 0.1 * std::max(first, second));
+}
