@@ -437,7 +437,7 @@ TEST(RecordOutliers, ASunPathIsClampedAWindowIsNot) {
     EXPECT_TRUE(same(window, before));
     // One path through the glass to the sun, 10^5 times brighter: clamped so that it adds no
     // more than kOutlierContribution times the mean of the samples without the brightest 2%
-    // (here the sun and one window sample) to the 108 samples' estimate - 256 times that mean -,
+    // (here the sun and one window sample) to the 108 samples' estimate - 4096 times that mean -,
     // hue kept; the rest untouched.
     std::vector<Color> sun = before;
     sun[7] = Color(2e4f, 1.8e4f, 1.6e4f);
@@ -445,7 +445,7 @@ TEST(RecordOutliers, ASunPathIsClampedAWindowIsNot) {
     double kept = -luminance(Color(0.9f));
     for (size_t i = 0; i < sun.size(); ++i)
         if (i != 7) kept += luminance(before[i]);
-    EXPECT_NEAR(luminance(sun[7]), 256 * kept / 106, 1e-3 * luminance(sun[7]));
+    EXPECT_NEAR(luminance(sun[7]), 4096 * kept / 106, 1e-3 * luminance(sun[7]));
     EXPECT_NEAR(sun[7].x / sun[7].z, 2e4f / 1.6e4f, 1e-4);
     sun[7] = before[7];
     EXPECT_TRUE(same(sun, before));
@@ -453,14 +453,14 @@ TEST(RecordOutliers, ASunPathIsClampedAWindowIsNot) {
     std::vector<Color> dark(108, Color(0.0f));
     dark[3] = Color(1.0f);
     EXPECT_EQ(clampRecordOutliers(dark), 0);
-    // A path 10^4 times the others' is clamped in a record of 108 samples, but not when the same
-    // 108 are added to a record that already has 108 x 63: the bound is 64 times higher.
+    // A path 2 10^4 times the others' is clamped in a record of 108 samples, but not when the
+    // same 108 are added to a record that already has 108 x 63: the bound is 64 times higher.
     std::vector<Color> bright = before;
-    bright[7] = Color(500.0f);
+    bright[7] = Color(1000.0f);
     EXPECT_EQ(clampRecordOutliers(bright), 1);
-    bright[7] = Color(500.0f);
+    bright[7] = Color(1000.0f);
     EXPECT_EQ(clampRecordOutliers(bright, 108 * 64), 0);
-    EXPECT_EQ(bright[7].x, 500.0f);
+    EXPECT_EQ(bright[7].x, 1000.0f);
 }
 
 // Records refined between passes (record_refinement.h): with few paths per record (32) the
