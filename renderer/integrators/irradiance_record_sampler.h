@@ -35,7 +35,7 @@ inline Vec3 recordRayOrigin(const RecordSite& site) {
 }
 
 // The site a path-traced record was computed at.
-inline RecordSite siteOf(const IrradianceRecord& record) {
+inline RecordSite recordSite(const IrradianceRecord& record) {
     return RecordSite{record.p, record.ng, record.n, record.wo, record.footprint};
 }
 

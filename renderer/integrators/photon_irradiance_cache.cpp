@@ -162,7 +162,7 @@ void PhotonMapIrradianceCacheIntegrator::fillFromPixelCentres(const PreprocessCo
 void PhotonMapIrradianceCacheIntegrator::beginPass(const PreprocessContext& context, int, int) {
     for (const RenderTimeRecords::Entry& e : renderTimeRecords_.take()) {
         Color E;
-        Site site{gi::siteOf(e.record), e.surface};
+        Site site{recordSite(e.record), e.surface};
         if (interpolate(context.scene, site, false, &E)) continue;
         cache_.insert(e.record);
         recordSurfaces_.push_back(e.surface);

@@ -28,7 +28,7 @@ void RecordRefinement::beforePass(const PreprocessContext& context, uint64_t fil
                     break;
                 }
                 const IrradianceRecord& record = cache.record(refinable[i]);
-                RecordSite site = siteOf(record);
+                RecordSite site = recordSite(record);
                 uint32_t round = record.samples / cellsPerRound_;
                 cache.addSamples(refinable[i], sample(site, IrradianceRecordSampler::streamKey(site, round),
                                                       record.samples, stats));
