@@ -36,6 +36,11 @@ void IrradianceCache::addSamples(uint32_t id, const IrradianceRecord& more) {
     r.samples += more.samples;
 }
 
+void IrradianceCache::reestimate(uint32_t id, const Color& E, float sigma) {
+    records_[id].E = E;
+    records_[id].sigma = sigma;
+}
+
 template <class Visit>
 void IrradianceCache::forEachValid(const Vec3& p, const Vec3& n, bool relaxed, Visit&& visit) const {
     octree_.forEachCandidate(p, [&](uint32_t id) {

@@ -26,6 +26,9 @@ public:
     // gradients and sigma become those of all its samples; position, radius and distances stay,
     // so the octree holds. Distinct ids may be refined on several threads at once.
     void addSamples(uint32_t id, const IrradianceRecord& more);
+    // A new estimate of a record that is not path traced (samples == 0: a photon estimate), from
+    // more photons: its irradiance and sigma; position, radius and distances stay.
+    void reestimate(uint32_t id, const Color& E, float sigma);
     float accuracy() const { return accuracy_; }
 
     struct Contribution {

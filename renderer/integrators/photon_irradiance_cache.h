@@ -19,9 +19,12 @@
 // The cache is filled before the render, coarse to fine over the pixel centres
 // (progressive_fill.h), in an order fixed by the pixels; a render-time lookup that finds no
 // record computes one for that sample alone without storing it, so the image does not depend
-// on thread timing. Before the next pass those records join the cache (render_time_records.h), and
-// the path-traced records take more paths (record_refinement.h) unless refineRecords is off;
-// photon records stay as they are.
+// on thread timing. Before the next pass those records join the cache (render_time_records.h) and,
+// unless refineRecords is off, the path-traced records take more paths (record_refinement.h)
+// while further batches of global photons join the map (photon_maps.h's addPhotonBatch) and the
+// photon records are estimated again from k B^(2/3) photons after B batches: a fixed map kept its
+// photon noise in the records however long the render ran (Cornell box, photon records of 20 000
+// photons: indirect e^2 0.0075 fixed, 0.00042 after 87 batches at 256 spp).
 #pragma once
 #include <atomic>
 
@@ -73,6 +76,9 @@ private:
     // the floor on its other side, however small the wall's distance or large the record.
     bool interpolate(const Scene& scene, const Site& site, bool relaxed, Color* E) const;
     void fillFromPixelCentres(const PreprocessContext& context);
+    // More photons between passes (photon_maps.h's addPhotonBatch) and the photon records
+    // re-estimated from them.
+    void addPhotonBatches(const PreprocessContext& context);
 
     PhotonIrradianceCacheSettings settings_;
     std::unique_ptr<PathTracedRecordSampler> recordSampler_;  // made once the caustic map is known
@@ -81,6 +87,7 @@ private:
     PhotonMaps maps_;
     PixelFootprint footprint_;
     uint32_t seed_ = 0;
+    int recordPhotons_ = 0;  // k of the photon records' estimates
     double fillSeconds_ = 0;
     Counters preprocessRecords_;
     std::unique_ptr<RecordRefinement> refinement_;  // made with the record sampler

@@ -93,7 +93,8 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
     stats["photonLightsSkipped"] = 0;
     stats["photonLightsGuided"] = 0;
 
-    PhotonEmitters emitters;
+    auto source = std::make_shared<PhotonSource>();
+    PhotonEmitters& emitters = source->emitters;
     auto pilotStart = Clock::now();
     if (globalCount + causticCount > 0) {
         if (scene.lights().empty()) {
@@ -141,8 +142,8 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
     PhotonTracer::Counters counters;
     PhotonTracer tracer(scene, emitters.distribution, context.seed, settings.guideEmission ? &emitters.guide : nullptr);
     std::vector<Photon> globalPhotons, causticPhotons;
+    PhotonTraceSettings& global = source->global;
     if (globalCount > 0) {
-        PhotonTraceSettings global;
         global.maxBounces = settings.photonDepth;
         global.keepDirect = global.keepCaustic = settings.globalKeepsDirectAndCaustic;
         if (settings.globalLeavesOutDirect) global.keepDirect = false;
@@ -150,6 +151,7 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
         uint32_t traced = globalCount;
         globalPhotons = tracer.tracePass(kGlobalStream, globalCount, global, counters, context.cancel, globalDeadline, &traced);
         scaleUp(globalPhotons, traced, globalCount, "global");
+        source->globalRays = counters.rays.load();
         if (globalPhotons.empty())
             scene.warn("photon mapping: none of " + std::to_string(globalCount) +
                        " photons landed on a surface that reflects light diffusely; the global map is empty");
@@ -188,6 +190,10 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
                    std::to_string(kDepthCap) + " bounces (trapped between specular surfaces?) and were stopped there");
     stats["photonsEmitted"] = globalCount;
     stats["causticPhotonsEmitted"] = causticCount;
+    stats["photonBatches"] = 1;
+    source->globalCount = globalCount;
+    source->guided = settings.guideEmission;
+    maps.source = std::move(source);
 
     auto buildStart = Clock::now();
     tbb::parallel_invoke([&] { maps.global.build(std::move(globalPhotons)); },
@@ -206,6 +212,37 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
     stats["causticMapBytes"] = double(maps.caustic.memoryBytes());
     stats["photonMapBytes"] =
         double(maps.global.memoryBytes() + maps.caustic.memoryBytes() + maps.irradiance.memoryBytes());
+}
+
+uint64_t addPhotonBatch(const PreprocessContext& context, PhotonMaps& maps) {
+    const PhotonSource* source = maps.source.get();
+    if (!source || source->globalCount == 0 || maps.global.empty() || !maps.irradiance.empty()) return 0;
+    if (double(maps.global.size()) * (1 + 1.0 / maps.batches) > kMaxPhotonsPerMap) return 0;
+    auto start = Clock::now();
+    const EmissionGuide* guide = source->guided ? &source->emitters.guide : nullptr;
+    // Batch b's stream: the first batch's, mixed with b (photon i of a stream is its sample i).
+    const uint32_t stream = kGlobalStream ^ (uint32_t(maps.batches) * 0x9E3779B9u);
+    PhotonTracer::Counters counters;
+    std::vector<Photon> added = PhotonTracer(context.scene, source->emitters.distribution, context.seed, guide)
+                                    .tracePass(stream, source->globalCount, source->global, counters, context.cancel);
+    if (context.cancelled()) return counters.rays.load();
+    // Each of the b + 1 batches stands for the whole emitted power: the photons of all of them,
+    // each carrying 1 / (b + 1) of its batch's power.
+    const float kept = float(maps.batches) / float(maps.batches + 1), share = 1.0f / float(maps.batches + 1);
+    std::vector<Photon> photons;
+    photons.reserve(maps.global.size() + added.size());
+    for (const Photon& photon : maps.global.tree().items()) photons.push_back(photon), photons.back().power = photon.power * kept;
+    for (const Photon& photon : added) photons.push_back(photon), photons.back().power = photon.power * share;
+    maps.global.build(std::move(photons));
+    ++maps.batches;
+    std::map<std::string, double>& stats = maps.statistics;
+    stats["photonBatches"] = maps.batches;
+    stats["photonBatchSeconds"] += secondsSince(start);
+    stats["photonRays"] += double(counters.rays.load());
+    stats["globalMapPhotons"] = double(maps.global.size());
+    stats["globalMapBytes"] = double(maps.global.memoryBytes());
+    stats["photonMapBytes"] = double(maps.global.memoryBytes() + maps.caustic.memoryBytes());
+    return counters.rays.load();
 }
 
 }  // namespace gi

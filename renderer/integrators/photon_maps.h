@@ -7,10 +7,13 @@
 // (photon_emitters.h). A photon count beyond kMaxPhotonsPerMap is clamped, with a warning.
 #pragma once
 #include <map>
+#include <memory>
 #include <string>
 
 #include "../integrator.h"
+#include "photon_emitters.h"
 #include "photon_map.h"
+#include "photon_tracer.h"
 
 namespace gi {
 
@@ -58,8 +61,19 @@ struct PhotonMapSettings {
 
 inline constexpr uint32_t kMinIrradianceStride = 4, kMaxIrradiancePhotons = 1u << 18;
 
+// What traced the global map's first batch of photons, kept so that further batches can be added.
+struct PhotonSource {
+    PhotonEmitters emitters;
+    PhotonTraceSettings global;
+    uint32_t globalCount = 0;  // emitted per batch
+    bool guided = true;
+    uint64_t globalRays = 0;  // traced for the first batch's global map
+};
+
 struct PhotonMaps {
     PhotonMap global, caustic;
+    std::shared_ptr<const PhotonSource> source;
+    int batches = 1;  // of global photons emitted (addPhotonBatch)
     PhotonMap irradiance;  // precomputed (power holds the irradiance); empty unless asked for
     float gatherRadius = 0;  // maxGatherRadius resolved against the scene
     std::map<std::string, double> statistics;
@@ -68,5 +82,13 @@ struct PhotonMaps {
 // Chooses the emitting lights, traces both passes and builds both kd-trees, all on every
 // thread, deterministically for the context's seed.
 void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& settings, PhotonMaps& maps);
+
+// Traces another batch of the first batch's global photons, from a stream of its own, and
+// rebuilds the global map with all batches' photons, each batch's power shared among them: the
+// map stays an unbiased estimate of the same light with more photons each time (for an integrator
+// whose estimates converge as its render goes on). Returns the rays traced; none (and nothing
+// added) without a global map, with precomputed irradiance, or once the map would exceed
+// kMaxPhotonsPerMap. The caustic map keeps its one batch.
+uint64_t addPhotonBatch(const PreprocessContext& context, PhotonMaps& maps);
 
 }  // namespace gi
