@@ -27,6 +27,17 @@ Bsdf::Bsdf(const BsdfParams& p)
     hasClearcoat_ = params_.clearcoat > 0;
     nonDeltaWeight_ = (opaqueNonDelta || dielectricNonDelta) ? 1.0f : 0.0f;
     lambertian_ = params_.transmission == 0 && !hasSpecular_ && !hasClearcoat_;
+    glossy_ = ((1 - params_.transmission) > 0 && ((hasSpecular_ && !specular_.smooth()) ||
+                                                   (hasClearcoat_ && !clearcoat_.smooth()))) ||
+              dielectricNonDelta;
+}
+
+Color Bsdf::diffuseLobe(const Vec3& wo) const {
+    if (wo.z <= 0) return Color(0.0f);
+    Color base = diffuse_ * kInvPi;
+    if (lambertian_) return base;
+    if (hasSpecular_) base = base * (1 - maxComponent(fresnelSchlick(params_.specularF0, params_.specularF90, wo.z)));
+    return base * (1 - params_.clearcoat * fresnelSchlick(Color(kClearcoatF0), 1, wo.z).x);
 }
 
 Bsdf::LobeWeights Bsdf::lobeWeights(const Vec3& wo) const {

@@ -50,8 +50,15 @@ public:
     bool transmits() const { return params_.transmission > 0; }
     // Approximate hemispherical reflectance, for the albedo AOV and photon survival.
     Color albedo() const;
-    // Lambertian part only: what an irradiance estimate is multiplied by.
+    // Lambertian part only (its reflectance, before the Fresnel of the lobes above it).
     Color diffuseReflectance() const { return diffuse_; }
+    // The Lambertian lobe's f towards wo, the same for every wi in wo's hemisphere (what eval
+    // holds of it: less the Fresnel reflected by the specular and clearcoat lobes above it): what
+    // an irradiance estimate is multiplied by.
+    Color diffuseLobe(const Vec3& wo) const;
+    // Whether any non-delta lobe other than the Lambertian one can reflect light (a rough
+    // specular, clearcoat or dielectric lobe).
+    bool hasGlossy() const { return glossy_; }
     const BsdfParams& params() const { return params_; }
 
 private:
@@ -75,6 +82,7 @@ private:
     bool hasSpecular_ = true, hasClearcoat_ = true;
     // Only the Lambertian lobe (most of a typical scene): eval, pdf and sample skip lobe selection.
     bool lambertian_ = false;
+    bool glossy_ = false;
 };
 
 }  // namespace gi

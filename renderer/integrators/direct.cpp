@@ -14,14 +14,15 @@ Color DirectIntegrator::Li(const Ray& ray, const Scene& scene, Sampler& sampler,
 }
 
 Color DirectIntegrator::trace(const Ray& cameraOrBranch, const Scene& scene, Sampler& sampler, RayStats& stats,
-                              SampleAovs* aovs, int specularDepth, bool cameraRay) const {
+                              SampleAovs* aovs, int specularDepth, bool cameraRay, bool firstHitEmits) const {
     Ray ray = cameraOrBranch;
     Color L(0.0f), weight(1.0f);
-    for (;; ++specularDepth, cameraRay = false, aovs = nullptr) {
+    for (;; ++specularDepth, cameraRay = false, aovs = nullptr, firstHitEmits = true) {
         Intersection hit = intersectVisible(scene, ray, sampler, stats, cameraRay);
         // Only camera rays and specular branches get here, so emitters count in full (no MIS).
-        if (hit.kind == Intersection::Kind::None) return L + weight * escapedRadiance(scene, ray, 0, true, cameraRay);
-        L += weight * emittedOnHit(scene, hit, ray, ray.o, 0, true);
+        if (hit.kind == Intersection::Kind::None)
+            return firstHitEmits ? L + weight * escapedRadiance(scene, ray, 0, true, cameraRay) : L;
+        if (firstHitEmits) L += weight * emittedOnHit(scene, hit, ray, ray.o, 0, true);
         if (hit.kind == Intersection::Kind::Light) return L;
         ShadingPoint sp = makeShadingPoint(hit.si, -ray.d);
         recordAovs(aovs, sp, hit.t);
@@ -29,6 +30,7 @@ Color DirectIntegrator::trace(const Ray& cameraOrBranch, const Scene& scene, Sam
             Color direct(0.0f);
             for (int i = 0; i < lightSamples_; ++i) direct += sampleDirectLight(scene, sp, sampler, stats, false);
             L += weight * (direct / float(lightSamples_) + indirect(scene, sp, sampler, stats));
+            if (tracesGlossy_ && sp.bsdf.hasGlossy()) L += weight * glossyIndirect(scene, sp, sampler, stats, specularDepth);
         }
         BsdfSample branches[3];
         int n = sp.bsdf.deltaBranches(sp.woLocal, branches);
@@ -42,6 +44,24 @@ Color DirectIntegrator::trace(const Ray& cameraOrBranch, const Scene& scene, Sam
         }
         if (!followDeltaBranch(sp, branches, n, sampler.get1D(), weight, ray)) return L;
     }
+}
+
+Color DirectIntegrator::glossyIndirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler, RayStats& stats,
+                                       int specularDepth) const {
+    float uLobe = sampler.get1D();
+    Vec2 u = sampler.get2D();
+    float uSurvive = sampler.get1D();
+    if (depthLimitReached(specularDepth, rayDepth_, stats)) return Color(0.0f);
+    BsdfSample s = sp.bsdf.sample(sp.woLocal, uLobe, u);
+    if (!s.valid || s.delta || !(s.pdf > 0)) return Color(0.0f);  // delta lobes are the branches'
+    // The sampled direction's f without the Lambertian lobe, which indirect() covers.
+    Color f = sp.bsdf.eval(sp.woLocal, s.wi);
+    if (s.wi.z > 0) f = f - sp.bsdf.diffuseLobe(sp.woLocal);
+    Color weight = vmax(f, Color(0.0f)) * (std::abs(s.wi.z) / s.pdf);
+    float survive = std::min(1.0f, maxComponent(weight));
+    if (!(survive > 0) || !isFinite(weight) || uSurvive >= survive) return Color(0.0f);
+    Ray next = spawnRay(sp.si, sp.frame.toWorld(s.wi));
+    return weight / survive * trace(next, scene, sampler, stats, nullptr, specularDepth + 1, false, false);
 }
 
 }  // namespace gi

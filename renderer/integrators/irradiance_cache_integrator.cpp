@@ -22,7 +22,9 @@ IrradianceCacheIntegrator::IrradianceCacheIntegrator(const IrradianceCacheSettin
       settings_(settings),
       recordSampler_(settings.record),
       cache_(settings.record.accuracy),
-      refinement_(recordSampler_.layout().cells()) {}
+      refinement_(recordSampler_.layout().cells()) {
+    tracesGlossy_ = true;
+}
 
 RecordSite IrradianceCacheIntegrator::siteOf(const ShadingPoint& sp) const {
     return RecordSite{sp.si.p, sp.si.ng, recordNormal(sp), sp.wo, footprint_.at(sp.si.p)};
@@ -120,7 +122,7 @@ Color IrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint
         renderRecords_.rays.fetch_add(recordStats.rays, std::memory_order_relaxed);
         renderRecords_.nanoseconds.fetch_add(nanosecondsSince(recordStart), std::memory_order_relaxed);
     }
-    return reflectance * E * kInvPi;
+    return sp.bsdf.diffuseLobe(sp.woLocal) * E;
 }
 
 std::map<std::string, double> IrradianceCacheIntegrator::statistics() const {

@@ -35,6 +35,7 @@ constexpr double kPhotonShare = 2;
 
 PhotonMapIrradianceCacheIntegrator::PhotonMapIrradianceCacheIntegrator(const PhotonIrradianceCacheSettings& settings)
     : DirectIntegrator(settings.record.rayDepth, settings.lightSamples), settings_(settings), cache_(settings.record.accuracy) {
+    tracesGlossy_ = true;
     settings_.photons.globalKeepsDirectAndCaustic = false;
     // The sky through glass is the records' (path-traced ones find it by BSDF sampling, photon
     // records from the global map), not a caustic map's sparse photons over wide discs.
@@ -234,7 +235,7 @@ Color PhotonMapIrradianceCacheIntegrator::indirect(const Scene& scene, const Sha
         E = record.E;
         renderTimeRecords_.add(record, site.surface);
     }
-    return L + reflectance * E * kInvPi;
+    return L + sp.bsdf.diffuseLobe(sp.woLocal) * E;
 }
 
 std::map<std::string, double> PhotonMapIrradianceCacheIntegrator::statistics() const {
