@@ -31,6 +31,8 @@ constexpr float kRecordCausticShare = 0.25f;
 // 0 / 0.5 / 1 / 2: sky-lit room 0.0506 / 0.0429 / 0.0408 / 0.0404, sunlit room (sun through
 // glass) 0.0915 / 0.0917 / 0.0915 / 0.0834, Sponza 0.0925 / 0.0918 / 0.0907 / 0.0914.
 constexpr double kPhotonShare = 2;
+// A photon record's sigma: the standard deviation of Y(E) for n photons, Y / sqrt(n).
+float photonSigma(const PhotonEstimate& e) { return luminance(e.value) / std::sqrt(float(e.photons)); }
 }  // namespace
 
 PhotonMapIrradianceCacheIntegrator::PhotonMapIrradianceCacheIntegrator(const PhotonIrradianceCacheSettings& settings)
@@ -49,13 +51,18 @@ PhotonMapIrradianceCacheIntegrator::Site PhotonMapIrradianceCacheIntegrator::sit
                 photonSurface(sp.si.shapeId, sp.si.instanceId)};
 }
 
+bool PhotonMapIrradianceCacheIntegrator::photonIrradiance(const Scene& scene, const RecordSite& site, uint32_t surface,
+                                                          PhotonEstimate* estimate) const {
+    const int k = recordPhotons_;
+    *estimate = maps_.global.irradiance(PhotonLookup{site.p, site.n, surface, &scene, site.ng}, k, maps_.gatherRadius);
+    return estimate->photons >= (k + 1) / 2 && estimate->coverage >= kMinCoverage;
+}
+
 IrradianceRecord PhotonMapIrradianceCacheIntegrator::computeRecord(const Scene& scene, const Site& where,
                                                                    RayStats& stats, Counters& counters) const {
-    const int k = recordPhotons_;
     const RecordSite& site = where.record;
-    PhotonEstimate estimate =
-        maps_.global.irradiance(PhotonLookup{site.p, site.n, where.surface, &scene, site.ng}, k, maps_.gatherRadius);
-    if (estimate.photons >= (k + 1) / 2 && estimate.coverage >= kMinCoverage) {
+    PhotonEstimate estimate;
+    if (photonIrradiance(scene, site, where.surface, &estimate)) {
         const RecordSettings& r = settings_.record;
         IrradianceRecord record;
         record.p = site.p;
@@ -66,7 +73,7 @@ IrradianceRecord PhotonMapIrradianceCacheIntegrator::computeRecord(const Scene& 
         record.wo = site.wo;
         record.radius = std::clamp(0.5f * estimate.radius / r.accuracy, r.minSpacing * site.footprint,
                                    std::max(r.minSpacing, r.maxSpacing) * site.footprint);
-        record.sigma = luminance(estimate.value) / std::sqrt(float(estimate.photons));
+        record.sigma = photonSigma(estimate);
         counters.photonRecords.fetch_add(1, std::memory_order_relaxed);
         return record;
     }
@@ -206,14 +213,12 @@ void PhotonMapIrradianceCacheIntegrator::addPhotonBatches(const PreprocessContex
     // progressive photon map's radius schedule, alpha = 2/3): both their noise and their disc
     // shrink as the photons grow.
     recordPhotons_ = int(std::lround(settings_.photons.gatherPhotons * std::pow(double(maps_.batches), 2.0 / 3.0)));
-    const int k = recordPhotons_;
     tbb::parallel_for(uint32_t(0), uint32_t(cache_.size()), [&](uint32_t id) {
         const IrradianceRecord& record = cache_.record(id);
         if (record.samples > 0) return;
-        PhotonEstimate estimate = maps_.global.irradiance(
-            PhotonLookup{record.p, record.n, recordSurfaces_[id], &context.scene, record.ng}, k, maps_.gatherRadius);
-        if (estimate.photons >= (k + 1) / 2 && estimate.coverage >= kMinCoverage)
-            cache_.reestimate(id, estimate.value, luminance(estimate.value) / std::sqrt(float(estimate.photons)));
+        PhotonEstimate estimate;
+        if (photonIrradiance(context.scene, recordSite(record), recordSurfaces_[id], &estimate))
+            cache_.reestimate(id, estimate.value, photonSigma(estimate));
     });
 }
 

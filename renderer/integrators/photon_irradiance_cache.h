@@ -68,6 +68,9 @@ private:
         uint32_t surface;
     };
     Site siteOf(const ShadingPoint& sp) const;
+    // The global map's irradiance at a record site on `surface` from recordPhotons_ photons;
+    // false where too few photons cover the disc for a photon record (the site is path traced).
+    bool photonIrradiance(const Scene& scene, const RecordSite& site, uint32_t surface, PhotonEstimate* estimate) const;
     // From the photon map where it has enough photons, by path tracing elsewhere.
     IrradianceRecord computeRecord(const Scene& scene, const Site& site, RayStats& stats, Counters& counters) const;
     // The cache's interpolation (2.31) over the records valid at the site that it can see: a
