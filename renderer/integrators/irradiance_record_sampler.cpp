@@ -69,7 +69,6 @@ IrradianceRecord IrradianceRecordSampler::sample(const Scene& scene, const Recor
     const int M = layout_.polar, N = layout_.azimuthal, cells = M * N;
     Frame frame(site.n);
     SurfaceInteraction origin;
-    origin.p = recordRayOrigin(site);
     origin.ng = site.ng;
     std::vector<Color> L(cells, Color(0.0f));
     std::vector<float> R(cells, kInf);
@@ -98,6 +97,7 @@ IrradianceRecord IrradianceRecordSampler::sample(const Scene& scene, const Recor
             float phi = 2 * kPi * (k + u.y) / N;
             Vec3 wi = frame.toWorld(Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
             float distance;
+            origin.p = recordRayOrigin(site, wi);
             Color Li = bouncedRadiance(scene, origin, wi, sampler, stats, &distance);
             if (!isFinite(Li)) Li = Color(0.0f);  // one broken path must not poison a whole region
             L[c] = vmax(Li, Color(0.0f));

@@ -48,7 +48,6 @@ IrradianceRecord PathTracedRecordSampler::sample(const Scene& scene, const Recor
     const int M = layout_.polar, N = layout_.azimuthal;
     Frame frame(site.n);
     SurfaceInteraction origin;
-    origin.p = recordRayOrigin(site);
     origin.ng = site.ng;
     const float rMinus = std::max(settings_.minSpacing * site.footprint, 1e-6f * (1 + length(site.p)));
     const float rPlus = std::max(settings_.maxSpacing, settings_.minSpacing) * site.footprint;
@@ -64,6 +63,7 @@ IrradianceRecord PathTracedRecordSampler::sample(const Scene& scene, const Recor
             float phi = 2 * kPi * (k + u.y) / N;
             Vec3 wi = frame.toWorld(Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
             float distance;
+            origin.p = recordRayOrigin(site, wi);
             Color L = bouncedRadiance(scene, origin, wi, sampler, stats, &distance);
             if (isFinite(L)) samples[size_t(j * N + k)] = vmax(L, Color(0.0f));  // one broken path must not poison a region
             minDistance = std::min(minDistance, std::max(distance, rMinus));
