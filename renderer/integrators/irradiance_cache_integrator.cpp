@@ -35,6 +35,31 @@ void IrradianceCacheIntegrator::beginPreprocess(const PreprocessContext& context
     footprint_ = PixelFootprint::of(context.camera, context.width, context.height);
     const SceneBounds& bounds = context.scene.bounds();
     cache_.reset(bounds.center, bounds.radius);
+    buildCausticMap(context);
+}
+
+void IrradianceCacheIntegrator::buildCausticMap(const PreprocessContext& context) {
+    maps_ = PhotonMaps();
+    recordSampler_.readCaustics(CausticPhotons());
+    const Scene& scene = context.scene;
+    // Left out where nothing can focus light, and under domes alone (the map leaves them out).
+    bool focusedLight = false;
+    for (const auto& light : scene.lights()) focusedLight = focusedLight || !light->isDome();
+    if (!(settings_.causticPhotons > 0) || !scene.hasSpecularSurfaces() || !focusedLight ||
+        !recordSampler_.gathersLight())
+        return;
+    PhotonMapSettings photons;
+    photons.photons = 0;
+    photons.causticPhotons = settings_.causticPhotons;
+    photons.gatherPhotons = settings_.gatherPhotons;
+    photons.photonDepth = settings_.record.pathDepth;
+    photons.rayDepth = settings_.record.rayDepth;
+    photons.globalKeepsDirectAndCaustic = false;
+    photons.causticMapLeavesOutDomes = true;  // the records' paths carry the sky through glass
+    buildPhotonMaps(context, photons, maps_);
+    if (!maps_.caustic.empty())
+        recordSampler_.readCaustics(CausticPhotons{&maps_.caustic, settings_.gatherPhotons, maps_.gatherRadius,
+                                                   kCausticConeFilter, kRecordCausticShare});
 }
 
 Ray IrradianceCacheIntegrator::pixelCentreRay(const PreprocessContext& context, uint32_t pixel,
@@ -97,8 +122,11 @@ void IrradianceCacheIntegrator::beginPass(const PreprocessContext& context, int,
 
 Color IrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler,
                                           RayStats& stats) const {
+    Color caustic(0.0f);
+    if (!maps_.caustic.empty())
+        caustic = maps_.caustic.radiance(sp, scene, settings_.gatherPhotons, maps_.gatherRadius, kCausticConeFilter).value;
     Color reflectance = sp.bsdf.diffuseReflectance();
-    if (isBlack(reflectance) || !recordSampler_.gathersLight()) return Color(0.0f);
+    if (isBlack(reflectance) || !recordSampler_.gathersLight()) return caustic;
     auto start = Clock::now();
     lookups_.fetch_add(1, std::memory_order_relaxed);
     Vec3 n = recordNormal(sp);
@@ -122,14 +150,14 @@ Color IrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint
         renderRecords_.rays.fetch_add(recordStats.rays, std::memory_order_relaxed);
         renderRecords_.nanoseconds.fetch_add(nanosecondsSince(recordStart), std::memory_order_relaxed);
     }
-    return sp.bsdf.diffuseLobe(sp.woLocal) * E;
+    return caustic + sp.bsdf.diffuseLobe(sp.woLocal) * E;
 }
 
 std::map<std::string, double> IrradianceCacheIntegrator::statistics() const {
     const RecordCounters& refined = refinement_.counters();
     double recordSeconds =
         (preprocessRecords_.nanoseconds.load() + renderRecords_.nanoseconds.load() + refined.nanoseconds.load()) * 1e-9;
-    return {
+    std::map<std::string, double> s = {
         {"records", double(cache_.size())},
         {"recordSamplesClamped", double(recordSampler_.outliersClamped())},
         {"preprocessRecords", double(preprocessRecords_.records.load())},
@@ -147,6 +175,8 @@ std::map<std::string, double> IrradianceCacheIntegrator::statistics() const {
         {"recordPathsMean", RecordRefinement::meanSamples(cache_)},
         {"cacheBytes", double(cache_.memoryBytes())},
     };
+    for (const auto& [name, value] : maps_.statistics) s[name] = value;
+    return s;
 }
 
 }  // namespace gi

@@ -41,7 +41,8 @@ uint32_t IrradianceRecordSampler::streamKey(const RecordSite& site, uint32_t rou
 }
 
 Color IrradianceRecordSampler::bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi,
-                                               Sampler& sampler, RayStats& stats, float* distance) const {
+                                               Sampler& sampler, RayStats& stats, float* distance,
+                                               Color* causticPart) const {
     Ray ray = spawnRay(origin, wi);
     Intersection hit = intersectVisible(scene, ray, sampler, stats, false);
     if (hit.kind == Intersection::Kind::None) {
@@ -60,7 +61,8 @@ Color IrradianceRecordSampler::bouncedRadiance(const Scene& scene, const Surface
     if (si.emissiveLight < 0 && si.material->isEmissive() && (si.doubleSided || dot(wi, si.ng) < 0))
         L += si.material->emission(si.uv);
     // Everything that leaves the hit point by reflection: its direct light and further bounces.
-    L += continuation_.continuePath(scene, makeShadingPoint(si, -wi), sampler, stats);
+    L += continuation_.continuePath(scene, makeShadingPoint(si, -wi), sampler, stats, caustics_.map ? &caustics_ : nullptr,
+                                    causticPart);
     return L;
 }
 
@@ -70,7 +72,7 @@ IrradianceRecord IrradianceRecordSampler::sample(const Scene& scene, const Recor
     Frame frame(site.n);
     SurfaceInteraction origin;
     origin.ng = site.ng;
-    std::vector<Color> L(cells, Color(0.0f));
+    std::vector<Color> L(cells, Color(0.0f)), causticL(cells, Color(0.0f));
     std::vector<float> R(cells, kInf);
     Sampler sampler(seed);
     // Distances below this are treated as this: a hit at ~0 distance (a crease) must not
@@ -98,16 +100,19 @@ IrradianceRecord IrradianceRecordSampler::sample(const Scene& scene, const Recor
             Vec3 wi = frame.toWorld(Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
             float distance;
             origin.p = recordRayOrigin(site, wi);
-            Color Li = bouncedRadiance(scene, origin, wi, sampler, stats, &distance);
-            if (!isFinite(Li)) Li = Color(0.0f);  // one broken path must not poison a whole region
-            L[c] = vmax(Li, Color(0.0f));
+            Color caustic(0.0f);
+            Color Li = bouncedRadiance(scene, origin, wi, sampler, stats, &distance, &caustic);
+            if (!isFinite(Li) || !isFinite(caustic)) Li = caustic = Color(0.0f);  // one broken path must not poison a region
+            L[c] = vmax(Li - caustic, Color(0.0f));
+            causticL[c] = vmax(caustic, Color(0.0f));
             if (std::isfinite(distance)) {
                 R[c] = std::max(distance, rMinus);
                 inverseDistanceSum += 1.0 / R[c];
                 minDistance = std::min(minDistance, R[c]);
             }
         }
-    outliersClamped_.fetch_add(uint64_t(clampRecordOutliers(L, samplesBefore + size_t(cells))), std::memory_order_relaxed);
+    outliersClamped_.fetch_add(uint64_t(clampRecordOutliers(L, causticL, samplesBefore + size_t(cells))),
+                               std::memory_order_relaxed);
     for (const Color& l : L) sum += l;
     const float cellWeight = kPi / cells;  // cosine-weighted estimator: E = pi / (M N) sum L
     record.E = sum * cellWeight;

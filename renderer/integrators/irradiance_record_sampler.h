@@ -44,6 +44,10 @@ inline RecordSite recordSite(const IrradianceRecord& record) {
     return RecordSite{record.p, record.ng, record.n, record.wo, record.footprint};
 }
 
+// A record's path reads the caustic map at a vertex one time in four (weighted by four): on
+// Sibenik with portals, reading it at every vertex made the photon cache's records cost more than 5 s.
+inline constexpr float kRecordCausticShare = 0.25f;
+
 struct RecordSettings {
     int paths = 108;        // M N hemisphere rays
     int pathDepth = kDepthCap;  // scattering vertices of a record's paths, counting the record's own
@@ -80,16 +84,24 @@ public:
     // (record_refinement.h) takes the key of (site, r).
     static uint32_t streamKey(const RecordSite& site, uint32_t round = 0);
 
+    // With a caustic map (the pixels read it), caustic light is the map's along the whole path, as
+    // in the photon cache's path-traced records (path_traced_record.h): a path that reaches a light
+    // through specular surfaces alone is left out, later non-specular vertices read the map. Domes
+    // stay the paths' (the map leaves them out). Set before the first record.
+    void readCaustics(const CausticPhotons& caustics) { caustics_ = caustics; }
+
 private:
     // Radiance arriving at the site from direction wi that has bounced at least once: the
-    // direct light that the ray tracer adds by light sampling is left out. Sets the hit distance.
+    // direct light that the ray tracer adds by light sampling is left out. Sets the hit distance,
+    // and adds to causticPart what of it the caustic map gave.
     Color bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi, Sampler& sampler,
-                          RayStats& stats, float* distance) const;
+                          RayStats& stats, float* distance, Color* causticPart) const;
 
     RecordSettings settings_;
     HemisphereLayout layout_;
     mutable std::atomic<uint64_t> outliersClamped_{0};
     PathIntegrator continuation_;  // paths from a hemisphere ray's first hit onwards
+    CausticPhotons caustics_;      // map null: every path counts
 };
 
 }  // namespace gi

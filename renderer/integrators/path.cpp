@@ -40,7 +40,7 @@ Color PathIntegrator::Li(const Ray& ray, const Scene& scene, Sampler& sampler, R
 }
 
 Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler& sampler, RayStats& stats,
-                                   const CausticPhotons* caustics) const {
+                                   const CausticPhotons* caustics, Color* causticPart) const {
     Color L(0.0f), beta(1.0f);
     int vertices = 1, specularVertices = 0;
     for (;;) {
@@ -48,10 +48,13 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
         // direction and Russian roulette.
         Vec2 uLight = sampler.get2D(), uChoice = sampler.get2D();
         L += beta * sampleDirectLight(scene, sp, uLight, uChoice.x, stats, true);
-        if (caustics && sp.bsdf.hasNonDelta() && sampler.get1D() < caustics->readShare)
-            L += beta *
-                 caustics->map->radiance(sp, scene, caustics->photons, caustics->maxRadius, caustics->coneFilter).value /
-                 caustics->readShare;
+        if (caustics && sp.bsdf.hasNonDelta() && sampler.get1D() < caustics->readShare) {
+            Color caustic =
+                beta * caustics->map->radiance(sp, scene, caustics->photons, caustics->maxRadius, caustics->coneFilter).value /
+                caustics->readShare;
+            L += caustic;
+            if (causticPart) *causticPart += caustic;
+        }
         BsdfSample bs = sp.bsdf.sample(sp.woLocal, uChoice.y, sampler.get2D());
         if (!bs.valid) break;
         if (bs.delta && depthLimitReached(specularVertices++, rayDepth_, stats)) break;

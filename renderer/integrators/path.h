@@ -28,9 +28,10 @@ public:
     PathIntegrator(int paths, int pathDepth, int rayDepth, int rouletteDepth);
     Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, RayStats& stats, SampleAovs* aovs) const override;
     // One path from an already shaded first vertex (shared with the irradiance-cache record
-    // samplers); with `caustics`, caustic light comes from that map (see CausticPhotons).
+    // samplers); with `caustics`, caustic light comes from that map (see CausticPhotons), and
+    // `causticPart` (when given) gets the share of the result read from it.
     Color continuePath(const Scene& scene, ShadingPoint sp, Sampler& sampler, RayStats& stats,
-                       const CausticPhotons* caustics = nullptr) const;
+                       const CausticPhotons* caustics = nullptr, Color* causticPart = nullptr) const;
 
 private:
     int paths_, pathDepth_, rayDepth_, rouletteDepth_;

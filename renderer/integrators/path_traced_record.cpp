@@ -12,7 +12,8 @@ PathTracedRecordSampler::PathTracedRecordSampler(const RecordSettings& settings,
       caustics_(caustics) {}
 
 Color PathTracedRecordSampler::bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi,
-                                               Sampler& sampler, RayStats& stats, float* distance) const {
+                                               Sampler& sampler, RayStats& stats, float* distance,
+                                               Color* causticPart) const {
     Ray ray = spawnRay(origin, wi);
     Color weight(1.0f);
     *distance = kInf;
@@ -29,8 +30,12 @@ Color PathTracedRecordSampler::bouncedRadiance(const Scene& scene, const Surface
         if (si.emissiveLight < 0 && si.material->isEmissive() && (si.doubleSided || dot(ray.d, si.ng) < 0))
             L += si.material->emission(si.uv);
         ShadingPoint sp = makeShadingPoint(si, -ray.d);
-        if (sp.bsdf.hasNonDelta() || !caustics_.map)
-            return weight * (L + continuation_.continuePath(scene, sp, sampler, stats, caustics_.map ? &caustics_ : nullptr));
+        if (sp.bsdf.hasNonDelta() || !caustics_.map) {
+            Color caustic(0.0f);
+            L += continuation_.continuePath(scene, sp, sampler, stats, caustics_.map ? &caustics_ : nullptr, &caustic);
+            *causticPart += weight * caustic;
+            return weight * L;
+        }
         // A purely specular surface: follow one branch, picked by its weight, and see whether
         // the path finds a non-specular surface before it finds light.
         if (depthLimitReached(specularVertices, settings_.rayDepth, stats)) return weight * L;
@@ -52,7 +57,7 @@ IrradianceRecord PathTracedRecordSampler::sample(const Scene& scene, const Recor
     const float rMinus = std::max(settings_.minSpacing * site.footprint, 1e-6f * (1 + length(site.p)));
     const float rPlus = std::max(settings_.maxSpacing, settings_.minSpacing) * site.footprint;
     Sampler sampler(seed);
-    std::vector<Color> samples(size_t(M * N), Color(0.0f));
+    std::vector<Color> samples(size_t(M * N), Color(0.0f)), fromCausticMap(samples.size(), Color(0.0f));
     float minDistance = kInf;
     for (int j = 0; j < M; ++j)
         for (int k = 0; k < N; ++k) {
@@ -64,11 +69,15 @@ IrradianceRecord PathTracedRecordSampler::sample(const Scene& scene, const Recor
             Vec3 wi = frame.toWorld(Vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
             float distance;
             origin.p = recordRayOrigin(site, wi);
-            Color L = bouncedRadiance(scene, origin, wi, sampler, stats, &distance);
-            if (isFinite(L)) samples[size_t(j * N + k)] = vmax(L, Color(0.0f));  // one broken path must not poison a region
+            Color caustic(0.0f);
+            Color L = bouncedRadiance(scene, origin, wi, sampler, stats, &distance, &caustic);
+            if (isFinite(L) && isFinite(caustic)) {  // one broken path must not poison a region
+                samples[size_t(j * N + k)] = vmax(L - caustic, Color(0.0f));
+                fromCausticMap[size_t(j * N + k)] = vmax(caustic, Color(0.0f));
+            }
             minDistance = std::min(minDistance, std::max(distance, rMinus));
         }
-    outliersClamped_.fetch_add(uint64_t(clampRecordOutliers(samples, samplesBefore + samples.size())), std::memory_order_relaxed);
+    outliersClamped_.fetch_add(uint64_t(clampRecordOutliers(samples, fromCausticMap, samplesBefore + samples.size())), std::memory_order_relaxed);
     Color sum(0.0f);
     for (const Color& l : samples) sum += l;
     IrradianceRecord record;

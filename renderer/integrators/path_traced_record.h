@@ -32,9 +32,10 @@ public:
 
 private:
     // Radiance arriving from direction wi that has bounced off a non-specular surface at least
-    // once (or, without a caustic map, off any surface); sets the first hit's distance.
+    // once (or, without a caustic map, off any surface); sets the first hit's distance, and adds to
+    // causticPart what of it the caustic map gave.
     Color bouncedRadiance(const Scene& scene, const SurfaceInteraction& origin, const Vec3& wi, Sampler& sampler,
-                          RayStats& stats, float* distance) const;
+                          RayStats& stats, float* distance, Color* causticPart) const;
 
     RecordSettings settings_;
     HemisphereLayout layout_;

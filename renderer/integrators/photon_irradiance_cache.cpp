@@ -22,9 +22,6 @@ constexpr uint32_t kFillSampleIndex = 0xfffffff2u;
 // (more photons, more photon records on its columns and edges), 0.994, 0.990, 0.991 with it
 // (0.989 at 0.6, 0.990-0.995 at 0.75).
 constexpr float kMinCoverage = 0.7f;
-// A record's path reads the caustic map at a vertex one time in four (weighted by four): on
-// Sibenik with portals, reading it at every vertex made the records cost more than 5 s.
-constexpr float kRecordCausticShare = 0.25f;
 // Global photon batches are added between passes while their rays are fewer than the passes' rays
 // times this, times the share of photon records in the cache (none where every record is path
 // traced: Sibenik under its sky). Measured at 160x120, 5 s, FLIP against 90 s references, shares

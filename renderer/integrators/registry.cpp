@@ -92,6 +92,15 @@ IrradianceCacheSettings irradianceCacheSettings(const IntegratorInfo& info, cons
     return s;
 }
 
+// The plain and adaptive caches' settings: the records' and their own caustic map's (the photon
+// cache's caustic map is one of its photon maps).
+IrradianceCacheSettings causticCacheSettings(const IntegratorInfo& info, const ParamSet& p) {
+    IrradianceCacheSettings s = irradianceCacheSettings(info, p);
+    s.causticPhotons = paramValue(info, p, "causticPhotons");
+    s.gatherPhotons = int(paramValue(info, p, "gatherPhotons"));
+    return s;
+}
+
 std::vector<IntegratorInfo> buildRegistry() {
     std::vector<IntegratorInfo> list;
     IntegratorInfo path{"path", "path tracing with next-event estimation, MIS and Russian roulette",
@@ -112,10 +121,15 @@ std::vector<IntegratorInfo> buildRegistry() {
     IntegratorInfo irradianceCache{
         "irradianceCache", "ray tracing with indirect diffuse light from an irradiance cache (gradients, T&L error)",
         {kRecordPaths, kPathDepth, kRayDepth, kRouletteDepth, kLightSamples, kAccuracy, kMinSpacing, kMaxSpacing,
-         kRefineRecords},
+         kRefineRecords,
+         intParam("causticPhotons", 500000, 0, 1e12,
+                  "photons emitted for a caustic map of the light that glass and mirrors focus (L S+ D paths), which "
+                  "the records' paths find only by chance; none without specular surfaces or with domes alone "
+                  "(0: the records carry it, as the thesis)"),
+         intParam("gatherPhotons", 50, 2, 100000, "photons per caustic density estimate (k nearest)")},
         nullptr};
     irradianceCache.create = [info = irradianceCache](const ParamSet& p) -> std::unique_ptr<Integrator> {
-        return std::make_unique<IrradianceCacheIntegrator>(irradianceCacheSettings(info, p));
+        return std::make_unique<IrradianceCacheIntegrator>(causticCacheSettings(info, p));
     };
     list.push_back(irradianceCache);
     IntegratorInfo adaptive{"adaptiveIrradianceCache",
@@ -127,7 +141,7 @@ std::vector<IntegratorInfo> buildRegistry() {
         AdaptiveRefinementSettings refinement;
         refinement.threshold = float(paramValue(info, p, "threshold"));
         refinement.maxRounds = int(paramValue(info, p, "refinementRounds"));
-        return std::make_unique<AdaptiveIrradianceCacheIntegrator>(irradianceCacheSettings(info, p), refinement);
+        return std::make_unique<AdaptiveIrradianceCacheIntegrator>(causticCacheSettings(info, p), refinement);
     };
     list.push_back(adaptive);
     IntegratorInfo finalGather{
@@ -219,7 +233,8 @@ std::vector<Preset> buildPresets() {
         p.params["path"] = {{"paths", pathPaths}, {"pathDepth", depth}, {"rayDepth", depth}};
         p.params["direct"] = {{"rayDepth", depth}};
         for (const char* cache : {"irradianceCache", "adaptiveIrradianceCache"})
-            p.params[cache] = {{"paths", 108}, {"pathDepth", depth}, {"rayDepth", depth}, {"refineRecords", 0}};
+            p.params[cache] = {{"paths", 108}, {"pathDepth", depth}, {"rayDepth", depth}, {"refineRecords", 0},
+                               {"causticPhotons", 0}};
         p.params["photonMapFinalGather"] = {{"photons", 500000}, {"causticPhotons", 500000}, {"photonDepth", depth},
                                             {"finalGatherSamples", gatherSamples}, {"finalGatherDepth", depth},
                                             {"gatherDirectLight", 0}, {"gatherBounces", 0},
