@@ -400,7 +400,8 @@ TEST_F(CornellBox, ErrorFallsAsAccuracyTightens) {
 // the bound is 4 sd, 0.00021 (it was "adaptive <= plain" on one seed, which passed by the seed's
 // luck). What this resolves is a gross excess, a third of the energy: the refinement switched off
 // (the adaptive cache its first fill, 416 records) reads 0.000621 and the refinement shrinking the
-// wrong records 0.000632, against 0.000604 and the plain cache's 0.000666 -- within the noise. The
+// wrong records 0.000632, against 0.000604 and the plain cache's 0.000666 -- within the noise (at the
+// 1-sigma discernibility rule; 437 records and 0.000621 at the 2-sigma rule, adaptive_refinement.cpp). The
 // adaptive cache's error against the plain cache's is bounded by ErrorFallsAsAccuracyTightens.
 TEST_F(CornellBox, AdaptiveHasNoMoreDiscontinuities) {
     const double excessBound = 0.00021;
