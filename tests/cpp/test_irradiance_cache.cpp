@@ -491,6 +491,24 @@ TEST_F(CornellBox, RefinedRecordsConvergeAsTheRenderGoesOn) {
     EXPECT_EQ(renderWith(64, true, 1).rgb, renderWith(64, true).rgb) << "one thread vs all";
 }
 
+// Looks at the scene from `eye` along `forward` (35 mm) and holds the green mean of each of the three
+// caches (cacheSpp samples) within `tolerance` of the path tracer's (pathSpp samples).
+static void expectCachesMatchThePathTracer(Scene& scene, Vec3 eye, Vec3 forward, int pathSpp, int cacheSpp, double tolerance,
+                                           const char* label) {
+    CameraDesc camera;
+    camera.name = "/Camera";
+    camera.focalLength = 35;
+    camera.transform = lookAlong(eye, forward);
+    scene.setCamera(camera);
+    Rendered path = render(scene, "path", 48, pathSpp, {}, 1);
+    for (const char* cache : {"irradianceCache", "adaptiveIrradianceCache", "photonMapIrradianceCache"}) {
+        Rendered r = render(scene, cache, 48, cacheSpp, {}, 2);
+        double ratio = channelMean(r.rgb, 1) / channelMean(path.rgb, 1);
+        std::printf("[ %-8s ] %s %.4f of the path tracer's mean\n", label, cache, ratio);
+        EXPECT_NEAR(ratio, 1.0, tolerance) << cache;
+    }
+}
+
 // A dark floor with a glossy lobe (UsdPreviewSurface's default specular, roughness 0.2) seen at
 // grazing angles, where it reflects a sunlit white wall: that reflection is indirect light of the
 // glossy lobe, which no irradiance record holds. The caches trace it (DirectIntegrator::
@@ -505,18 +523,7 @@ TEST(IrradianceCacheRender, GlossyFloorAtGrazingAngles) {
     addQuad(scene, "/Floor", {-4, 0, -3}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -3}, glossy);
     addQuad(scene, "/Wall", {-4, 0, -3}, {4, 0, -3}, {4, 3, -3}, {-4, 3, -3}, white);
     addDistantLight(scene, Vec3(0.3f, -0.5f, -1), 3);
-    CameraDesc camera;
-    camera.name = "/Camera";
-    camera.focalLength = 35;
-    camera.transform = lookAlong(Vec3(0, 0.4f, 3.5f), Vec3(0, -0.12f, -1));
-    scene.setCamera(camera);
-    Rendered path = render(scene, "path", 48, 512, {}, 1);
-    for (const char* cache : {"irradianceCache", "adaptiveIrradianceCache", "photonMapIrradianceCache"}) {
-        Rendered r = render(scene, cache, 48, 64, {}, 2);
-        double ratio = channelMean(r.rgb, 1) / channelMean(path.rgb, 1);
-        std::printf("[ glossy   ] %s %.4f of the path tracer's mean\n", cache, ratio);
-        EXPECT_NEAR(ratio, 1.0, 0.02) << cache;
-    }
+    expectCachesMatchThePathTracer(scene, Vec3(0, 0.4f, 3.5f), Vec3(0, -0.12f, -1), 512, 64, 0.02, "glossy");
 }
 
 // A sunlit floor whose shading normals lean 35 degrees off its plane (a smooth-shaded mesh, as
@@ -534,18 +541,7 @@ TEST(IrradianceCacheRender, ShadingNormalsLeaningPastTheSurface) {
     scene.addMesh("/Floor", {{-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}}, {0, 1, 2, 0, 2, 3}, {n, n, n, n}, {}, white,
                   nullptr, true, -1);
     addDistantLight(scene, Vec3(0.2f, -1, -0.3f), 3);
-    CameraDesc camera;
-    camera.name = "/Camera";
-    camera.focalLength = 35;
-    camera.transform = lookAlong(Vec3(0, 2.5f, 3), Vec3(0, -0.7f, -1));
-    scene.setCamera(camera);
-    Rendered path = render(scene, "path", 48, 256, {}, 1);
-    for (const char* cache : {"irradianceCache", "adaptiveIrradianceCache", "photonMapIrradianceCache"}) {
-        Rendered r = render(scene, cache, 48, 16, {}, 2);
-        double ratio = channelMean(r.rgb, 1) / channelMean(path.rgb, 1);
-        std::printf("[ leaning  ] %s %.4f of the path tracer's mean\n", cache, ratio);
-        EXPECT_NEAR(ratio, 1.0, 0.01) << cache;
-    }
+    expectCachesMatchThePathTracer(scene, Vec3(0, 2.5f, 3), Vec3(0, -0.7f, -1), 256, 16, 0.01, "leaning");
 }
 
 // The photon cache's photon records are estimates from the global map: fixed, they keep its
