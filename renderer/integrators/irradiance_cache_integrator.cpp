@@ -57,9 +57,8 @@ void IrradianceCacheIntegrator::buildCausticMap(const PreprocessContext& context
     photons.globalKeepsDirectAndCaustic = false;
     photons.causticMapLeavesOutDomes = true;  // the records' paths carry the sky through glass
     buildPhotonMaps(context, photons, maps_);
-    causticRadius_ = causticLookupRadius(maps_, scene);
     if (!maps_.caustic.empty())
-        recordSampler_.readCaustics(CausticPhotons{&maps_.caustic, settings_.gatherPhotons, causticRadius_,
+        recordSampler_.readCaustics(CausticPhotons{&maps_.caustic, settings_.gatherPhotons, maps_.causticRadius,
                                                    kCausticConeFilter, kRecordCausticShare});
 }
 
@@ -125,7 +124,7 @@ Color IrradianceCacheIntegrator::indirect(const Scene& scene, const ShadingPoint
                                           RayStats& stats) const {
     Color caustic(0.0f);
     if (!maps_.caustic.empty())
-        caustic = maps_.caustic.radiance(sp, scene, settings_.gatherPhotons, causticRadius_, kCausticConeFilter).value;
+        caustic = maps_.caustic.radiance(sp, scene, settings_.gatherPhotons, maps_.causticRadius, kCausticConeFilter).value;
     Color reflectance = sp.bsdf.diffuseReflectance();
     if (isBlack(reflectance) || !recordSampler_.gathersLight()) return caustic;
     auto start = Clock::now();

@@ -66,7 +66,6 @@ protected:
 
     IrradianceCacheSettings settings_;
     PhotonMaps maps_;  // the caustic map alone, or nothing
-    float causticRadius_ = 0;
     IrradianceRecordSampler recordSampler_;
     IrradianceCache cache_;
     PixelFootprint footprint_;

@@ -31,7 +31,7 @@ Color PhotonMapFinalGatherIntegrator::indirect(const Scene& scene, const Shading
     const int k = settings_.photons.gatherPhotons;
     Color L(0.0f);
     if (!maps_.caustic.empty()) {
-        L += maps_.caustic.radiance(sp, scene, k, causticLookupRadius(maps_, scene), kCausticConeFilter).value;
+        L += maps_.caustic.radiance(sp, scene, k, maps_.causticRadius, kCausticConeFilter).value;
         lookups_.fetch_add(1, std::memory_order_relaxed);
     }
     const int samples = settings_.finalGatherSamples;
@@ -88,7 +88,7 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
                 // mean): a pixel's gather rays average it, and each read is a k-nearest search
                 // that cost more than the rest of the bounce (Cornell box: 2.0 of 3.7 s).
                 if (!maps_.caustic.empty() && sampler.get1D() < kBounceCausticShare) {
-                    L += weight * maps_.caustic.radiance(sp, scene, settings_.photons.gatherPhotons, causticLookupRadius(maps_, scene),
+                    L += weight * maps_.caustic.radiance(sp, scene, settings_.photons.gatherPhotons, maps_.causticRadius,
                                                          kCausticConeFilter).value / kBounceCausticShare;
                     lookups_.fetch_add(1, std::memory_order_relaxed);
                 }

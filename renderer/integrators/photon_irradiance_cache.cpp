@@ -110,7 +110,7 @@ void PhotonMapIrradianceCacheIntegrator::preprocess(const PreprocessContext& con
                            "is path traced");
     CausticPhotons caustics;
     if (!maps_.caustic.empty())
-        caustics = CausticPhotons{&maps_.caustic, settings_.photons.gatherPhotons, causticLookupRadius(maps_, context.scene),
+        caustics = CausticPhotons{&maps_.caustic, settings_.photons.gatherPhotons, maps_.causticRadius,
                                   kCausticConeFilter,
                                   kRecordCausticShare};
     recordSampler_ = std::make_unique<PathTracedRecordSampler>(settings_.record, caustics);
@@ -224,7 +224,7 @@ Color PhotonMapIrradianceCacheIntegrator::indirect(const Scene& scene, const Sha
                                                    RayStats& stats) const {
     Color L(0.0f);
     if (!maps_.caustic.empty())
-        L += maps_.caustic.radiance(sp, scene, settings_.photons.gatherPhotons, causticLookupRadius(maps_, scene), kCausticConeFilter)
+        L += maps_.caustic.radiance(sp, scene, settings_.photons.gatherPhotons, maps_.causticRadius, kCausticConeFilter)
                  .value;
     Color reflectance = sp.bsdf.diffuseReflectance();
     if (isBlack(reflectance)) return L;

@@ -81,6 +81,7 @@ void buildPhotonMaps(const PreprocessContext& context, const PhotonMapSettings& 
     auto traceStart = Clock::now();
     maps = PhotonMaps();
     maps.gatherRadius = settings.maxGatherRadius > 0 ? settings.maxGatherRadius : 0.1f * scene.bounds().radius;
+    maps.causticRadius = std::min(maps.gatherRadius, 0.003f * scene.bounds().radius);
     uint32_t globalCount = photonCount(scene, settings.photons, "photons");
     uint32_t causticCount = photonCount(scene, settings.causticPhotons, "causticPhotons");
     if (causticCount > 0 && !scene.hasSpecularSurfaces()) {

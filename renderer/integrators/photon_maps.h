@@ -22,7 +22,6 @@ namespace gi {
 // box's glass-sphere caustic with the box filter).
 constexpr float kCausticConeFilter = 1.1f;
 
-
 // 2^24 emitted photons: 33 times the thesis's 500 000, and about half a gigabyte of stored
 // photons in a closed, bright room.
 inline constexpr double kMaxPhotonsPerMap = double(1u << 24);
@@ -77,18 +76,16 @@ struct PhotonMaps {
     int batches = 1;  // of global photons emitted (addPhotonBatch)
     PhotonMap irradiance;  // precomputed (power holds the irradiance); empty unless asked for
     float gatherRadius = 0;  // maxGatherRadius resolved against the scene
+    // Caustic-map lookups (the caches', final gathering's) reach at most 1/300 of the scene's radius,
+    // not the global map's tenth: caustics are sharp, and a lookup that found few photons near it
+    // searched far and tested photons on other surfaces with shadow rays. Measured with the plain
+    // cache at 160x120, 5 s, shares 0.1 / 0.03 / 0.01 / 0.003: Sibenik with portals 56 / 128 / 139 /
+    // 178 spp, FLIP 0.0328 / 0.0289 / 0.0281 / 0.0260; the sunlit glazed room 58 / 85 / 107 / 150 spp,
+    // FLIP 0.082 / 0.072 / 0.068 / 0.063, mean 1.00 at each. At 0.003 final gathering's FLIP went
+    // 0.051 -> 0.047 (room), 0.033 -> 0.029 (Sibenik with portals).
+    float causticRadius = 0;
     std::map<std::string, double> statistics;
 };
-
-// Caustic-map lookups (the caches', final gathering's) reach at most 1/300 of the scene's radius, not
-// the global map's tenth: caustics are sharp, and a lookup that found few photons near it searched
-// far and tested photons on other surfaces with shadow rays. Measured with the plain cache at 160x120, 5 s, shares 0.1 / 0.03 /
-// 0.01 / 0.003: Sibenik with portals 56 / 128 / 139 / 178 spp, FLIP 0.0328 / 0.0289 / 0.0281 / 0.0260;
-// the sunlit glazed room 58 / 85 / 107 / 150 spp, FLIP 0.082 / 0.072 / 0.068 / 0.063, mean 1.00 at each.
-// At 0.003 final gathering's FLIP went 0.051 -> 0.047 (room), 0.033 -> 0.029 (Sibenik with portals).
-inline float causticLookupRadius(const PhotonMaps& maps, const Scene& scene) {
-    return std::min(maps.gatherRadius, 0.003f * scene.bounds().radius);
-}
 
 // Chooses the emitting lights, traces both passes and builds both kd-trees, all on every
 // thread, deterministically for the context's seed.
