@@ -93,6 +93,9 @@ public:
         rectangular_ = std::fabs(dot(e1, e2)) <= 1e-4f * length(e1) * length(e2);  // not sheared
         center_ = p0 + (e1 + e2) * 0.5f;
         diagonalSquared_ = lengthSquared(e1 + e2);
+        plane_ = cross(e1, e2);
+        e1Squared_ = dot(e1, e1);
+        e2Squared_ = dot(e2, e2);
     }
     static RectLight between(const RectLight& a, const RectLight& b, float f) {
         return RectLight(lerp(a.p0_, b.p0_, f), lerp(a.e1_, b.e1_, f), lerp(a.e2_, b.e2_, f),
@@ -133,13 +136,12 @@ public:
     }
     Color radiance(const Vec3& wi, float time) const override { return dot(-wi, n_) > 0 ? L_ : Color(0); }
     float intersect(const Ray& r) const override {
-        Vec3 nn = cross(e1_, e2_);
-        float denom = dot(r.d, nn);
+        float denom = dot(r.d, plane_);
         if (std::fabs(denom) < 1e-20f) return kInf;
-        float t = dot(p0_ - r.o, nn) / denom;
+        float t = dot(p0_ - r.o, plane_) / denom;
         if (!(t > r.tMin && t < r.tMax)) return kInf;
         Vec3 q = r.o + r.d * t - p0_;
-        float a = dot(q, e1_) / dot(e1_, e1_), b = dot(q, e2_) / dot(e2_, e2_);
+        float a = dot(q, e1_) / e1Squared_, b = dot(q, e2_) / e2Squared_;
         return (a >= 0 && a <= 1 && b >= 0 && b <= 1) ? t : kInf;
     }
     bool shapeBounds(Vec3* lo, Vec3* hi) const override {
@@ -166,7 +168,8 @@ private:
         return rectangular_ && rect.solidAngle > 3e-4f && rect.solidAngle < 6.22f;
     }
     Vec3 p0_, e1_, e2_, n_, center_;
-    float area_, diagonalSquared_ = 0;
+    Vec3 plane_;  // e1 x e2, and below their squared lengths: every ray tests the rect (intersect)
+    float area_, diagonalSquared_ = 0, e1Squared_ = 0, e2Squared_ = 0;
     bool rectangular_ = true;
 };
 

@@ -115,11 +115,17 @@ void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4]) const {
     int x0 = int(std::floor(x)), y0 = int(std::floor(y));
     float fx = x - x0, fy = y - y0;
     for (int c = 0; c < 4; ++c) out[c] = 0;
+    // Rows and columns wrapped once, not per texel: the four texels' coordinates, or -1 for black.
+    int xs[2] = {x0, x0 + 1}, ys[2] = {y0, y0 + 1};
+    for (int i = 0; i < 2; ++i) {
+        if (!wrapCoordinate(xs[i], width_, wrapS)) xs[i] = -1;
+        if (!wrapCoordinate(ys[i], height_, wrapT)) ys[i] = -1;
+    }
     for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
-            int xi = x0 + dx, yi = y0 + dy;
+            int xi = xs[dx], yi = ys[dy];
             float w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
-            if (!wrapCoordinate(xi, width_, wrapS) || !wrapCoordinate(yi, height_, wrapT)) continue;
+            if (xi < 0 || yi < 0) continue;
             float t[4];
             texel(xi, yi, t);
             for (int c = 0; c < 4; ++c) out[c] += w * t[c];
