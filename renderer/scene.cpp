@@ -749,25 +749,58 @@ void Scene::intersectAnalyticLights(const Ray& ray, bool cameraRay, Intersection
 }
 
 Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) const {
+    return finish(ray, trace(ray, stats, cameraRay));
+}
+
+Scene::PendingHit Scene::trace(const Ray& ray, RayStats& stats, bool cameraRay) const {
     ++stats.rays;
+    PendingHit pending;
     // A NaN ray (from a broken camera or a numerical accident upstream) hits nothing: Embree's
     // behaviour on it is undefined (its debug builds assert).
-    if (!embreeValid(ray.o) || !embreeValid(ray.d) || std::isnan(ray.tMin) || std::isnan(ray.tMax)) return Intersection();
+    if (!embreeValid(ray.o) || !embreeValid(ray.d) || std::isnan(ray.tMin) || std::isnan(ray.tMax)) return pending;
     if (stats.record) stats.record->push_back({ray.o, ray.d, ray.tMin, ray.tMax, false, ray.time});
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-    RTCRayHit rh = toEmbreeRayHit(ray.o, ray.d, ray.tMin, ray.tMax, ray.time);
+    RTCRayHit& rh = pending.rh;
+    rh = toEmbreeRayHit(ray.o, ray.d, ray.tMin, ray.tMax, ray.time);
     rtcIntersect1(top_, &context, &rh);
-    Intersection result;
+    Intersection& result = pending.hit;
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
         result.kind = Intersection::Kind::Surface;
         result.t = rh.ray.tfar;
+        if (const Shape* s = hitShape(rh.hit); s && !s->isSphere) __builtin_prefetch(&s->indices[3 * size_t(rh.hit.primID)]);
     }
     // Area lights are analytic: tested after the surface BVH, up to the surface hit.
     intersectAnalyticLights(ray, cameraRay, result);
-    if (result.kind == Intersection::Kind::Surface) result.si = makeInteraction(ray, rh);
+    return pending;
+}
+
+void Scene::prefetchSurface(const PendingHit& pending) const {
+    if (pending.hit.kind != Intersection::Kind::Surface) return;
+    const Shape* s = hitShape(pending.rh.hit);
+    if (!s || s->isSphere || !s->stepPositions.empty()) return;
+    const uint32_t* corner = &s->indices[3 * size_t(pending.rh.hit.primID)];
+    for (int k = 0; k < 3; ++k) {
+        __builtin_prefetch(&s->positions[corner[k]]);
+        if (!s->normals.empty()) __builtin_prefetch(&s->normals[corner[k]]);
+        if (!s->uvs.empty()) __builtin_prefetch(&s->uvs[corner[k]]);
+    }
+}
+
+Intersection Scene::finish(const Ray& ray, const PendingHit& pending) const {
+    Intersection result = pending.hit;
+    if (result.kind == Intersection::Kind::Surface) result.si = makeInteraction(ray, pending.rh);
     return result;
+}
+
+const Scene::Shape* Scene::hitShape(const RTCHit& h) const {
+    if (h.instID[0] != RTC_INVALID_GEOMETRY_ID && h.instID[0] == staticBvhGeom_) return &shapes_[staticBvhToShape_[h.geomID]];
+    if (h.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+        const Instance& inst = instances_[-topGeomToShape_[h.instID[0]] - 1];
+        return &shapes_[prototypes_[inst.prototype].geomToShape[h.geomID]];
+    }
+    return &shapes_[topGeomToShape_[h.geomID]];
 }
 
 bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats, float time) const {

@@ -97,6 +97,17 @@ public:
     // --- queries (thread-safe after commit) ---
     // cameraRay: skip lights that are invisible to the camera.
     Intersection intersect(const Ray& ray, RayStats& stats, bool cameraRay = false) const;
+    // intersect in two halves, for a caller with work to do while the hit's triangle data is
+    // fetched from memory: trace finds the hit and starts loading its vertex indices;
+    // prefetchSurface, once those have had time to arrive, starts loading its vertices, normals
+    // and texture coordinates; finish reads them (intersect's result, bit for bit).
+    struct PendingHit {
+        Intersection hit;  // kind, t and light; si is filled by finish
+        RTCRayHit rh;
+    };
+    PendingHit trace(const Ray& ray, RayStats& stats, bool cameraRay = false) const;
+    void prefetchSurface(const PendingHit& pending) const;
+    Intersection finish(const Ray& ray, const PendingHit& pending) const;
     // `time`: within the shutter (Ray::time); preprocessing tests (portals) see shutter open.
     bool occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats, float time = 0) const;
     // Shadow test between a surface point and a light sample, offsetting the origin (at si.time).
@@ -210,6 +221,8 @@ private:
     static void intersectLightPrimitive(const struct RTCIntersectFunctionNArguments* args);
     void bindMaterials();
     SurfaceInteraction makeInteraction(const Ray& ray, const RTCRayHit& hit) const;
+    // The shape an Embree hit is on (in the top level, the static BVH or an instance's prototype).
+    const Shape* hitShape(const RTCHit& hit) const;
     Texture loadTexture(const TextureDesc& desc, const std::string& materialName, const std::string& input);
     int defaultMaterial();
 

@@ -28,21 +28,31 @@ Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Sampler& sam
 
 Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Vec2 uLight, float uSelect, RayStats& stats,
                         bool mis) {
-    if (scene.lights().empty() || !sp.bsdf.hasNonDelta()) return Color(0.0f);
-    float pmf;
-    int index = scene.lightSampler().sample(sp.si.p, uSelect, &pmf);
-    if (index < 0) return Color(0.0f);  // no light can reach this point
+    return resolveDirectLight(scene, sp, prepareDirectLight(scene, sp, uLight, uSelect, mis), stats);
+}
+
+DirectLightSample prepareDirectLight(const Scene& scene, const ShadingPoint& sp, Vec2 uLight, float uSelect, bool mis) {
+    DirectLightSample d;  // f black: nothing to test
+    if (scene.lights().empty() || !sp.bsdf.hasNonDelta()) return d;
+    int index = scene.lightSampler().sample(sp.si.p, uSelect, &d.pmf);
+    if (index < 0) return d;  // no light can reach this point
     const Light& light = *scene.lights()[index];
-    LightSample ls = light.sample(sp.si.p, uLight, sp.si.time);  // where it is at the path's time
-    if (!(ls.pdf > 0) || isBlack(ls.Li)) return Color(0.0f);
-    Vec3 wiLocal = sp.frame.toLocal(ls.wi);
-    Color f = sp.bsdf.eval(sp.woLocal, wiLocal) * absCosTheta(wiLocal);
-    if (isBlack(f)) return Color(0.0f);
+    d.light = light.sample(sp.si.p, uLight, sp.si.time);  // where it is at the path's time
+    if (!(d.light.pdf > 0) || isBlack(d.light.Li)) return d;
+    d.wiLocal = sp.frame.toLocal(d.light.wi);
+    d.f = sp.bsdf.eval(sp.woLocal, d.wiLocal) * absCosTheta(d.wiLocal);
+    d.mis = mis;
+    return d;
+}
+
+Color resolveDirectLight(const Scene& scene, const ShadingPoint& sp, const DirectLightSample& d, RayStats& stats) {
+    if (isBlack(d.f)) return Color(0.0f);
+    const LightSample& ls = d.light;
     if (!scene.visible(sp.si, ls.wi, ls.distance, stats)) return Color(0.0f);
-    if (ls.delta) return f * ls.Li / pmf;
-    float lightPdf = pmf * ls.pdf;
-    float weight = mis ? powerHeuristic(lightPdf, sp.bsdf.pdf(sp.woLocal, wiLocal)) : 1.0f;
-    return f * ls.Li * (weight / lightPdf);
+    if (ls.delta) return d.f * ls.Li / d.pmf;
+    float lightPdf = d.pmf * ls.pdf;
+    float weight = d.mis ? powerHeuristic(lightPdf, sp.bsdf.pdf(sp.woLocal, d.wiLocal)) : 1.0f;
+    return d.f * ls.Li * (weight / lightPdf);
 }
 
 Color emittedOnHit(const Scene& scene, const Intersection& hit, const Ray& ray, const Vec3& prevPoint,

@@ -24,6 +24,18 @@ Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Sampler& sam
 Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Vec2 uLight, float uSelect, RayStats& stats,
                         bool mis);
 
+// sampleDirectLight in two halves, so that a path can trace its next ray between them while the
+// shadow ray waits: the light sample and the BSDF's value, then the shadow ray and the weight.
+struct DirectLightSample {
+    LightSample light;
+    Color f;              // BSDF value times the cosine; black: nothing to test
+    Vec3 wiLocal;
+    float pmf = 0;
+    bool mis = false;
+};
+DirectLightSample prepareDirectLight(const Scene& scene, const ShadingPoint& sp, Vec2 uLight, float uSelect, bool mis);
+Color resolveDirectLight(const Scene& scene, const ShadingPoint& sp, const DirectLightSample& sample, RayStats& stats);
+
 // Radiance from an emitter reached by a BSDF-sampled ray, MIS-weighted against light sampling.
 // prevPdf: BSDF pdf of the sampled direction; prevDelta: it came from a delta lobe (no MIS).
 Color emittedOnHit(const Scene& scene, const Intersection& hit, const Ray& ray, const Vec3& prevPoint,

@@ -13,9 +13,15 @@ PathIntegrator::PathIntegrator(int paths, int pathDepth, int rayDepth, int roule
     : paths_(std::max(1, paths)), pathDepth_(pathDepth), rayDepth_(rayDepth), rouletteDepth_(rouletteDepth) {}
 
 Intersection intersectVisible(const Scene& scene, Ray ray, Sampler& sampler, RayStats& stats, bool cameraRay) {
+    return intersectVisible(scene, ray, scene.trace(ray, stats, cameraRay), sampler, stats, cameraRay);
+}
+
+Intersection intersectVisible(const Scene& scene, Ray ray, const Scene::PendingHit& first, Sampler& sampler,
+                              RayStats& stats, bool cameraRay) {
+    Intersection hit = scene.finish(ray, first);
     // Stochastic presence ("presence" opacity, cut-outs): pass through with probability 1 - opacity.
     for (int layers = 0; layers < 64; ++layers) {
-        Intersection hit = scene.intersect(ray, stats, cameraRay);
+        if (layers > 0) hit = scene.intersect(ray, stats, cameraRay);
         if (hit.kind != Intersection::Kind::Surface || !hit.si.material->hasPresence()) return hit;
         float presence = hit.si.material->presence(hit.si.uv);
         if (presence >= 1 || sampler.get1D() < presence) return hit;
@@ -47,25 +53,41 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
         // Four sample pairs per vertex: the light point, (light choice, BSDF lobe), the BSDF
         // direction and Russian roulette.
         Vec2 uLight = sampler.get2D(), uChoice = sampler.get2D();
-        L += beta * sampleDirectLight(scene, sp, uLight, uChoice.x, stats, true);
-        if (caustics && sp.bsdf.hasNonDelta() && sampler.get1D() < caustics->readShare) {
-            Color caustic =
-                beta * caustics->map->radiance(sp, scene, caustics->photons, caustics->maxRadius, caustics->coneFilter).value /
-                caustics->readShare;
+        const bool readsCaustics = caustics && sp.bsdf.hasNonDelta() && sampler.get1D() < caustics->readShare;
+        BsdfSample bs = sp.bsdf.sample(sp.woLocal, uChoice.y, sampler.get2D());
+        // The vertex's light sample and caustic read, added before what the next hit emits (the
+        // sums' order kept): the shadow ray is traced after the next ray, while the next hit's
+        // triangle data is on its way from memory (Scene::trace).
+        const Color vertexBeta = beta;
+        auto addVertexLight = [&](const DirectLightSample& direct) {
+            L += vertexBeta * resolveDirectLight(scene, sp, direct, stats);
+            if (!readsCaustics) return;
+            Color caustic = vertexBeta *
+                            caustics->map->radiance(sp, scene, caustics->photons, caustics->maxRadius, caustics->coneFilter)
+                                .value /
+                            caustics->readShare;
             L += caustic;
             if (causticPart) *causticPart += caustic;
+        };
+        if (!bs.valid || (bs.delta && depthLimitReached(specularVertices++, rayDepth_, stats))) {
+            addVertexLight(prepareDirectLight(scene, sp, uLight, uChoice.x, true));
+            break;
         }
-        BsdfSample bs = sp.bsdf.sample(sp.woLocal, uChoice.y, sampler.get2D());
-        if (!bs.valid) break;
-        if (bs.delta && depthLimitReached(specularVertices++, rayDepth_, stats)) break;
         beta *= bs.weight;
-        if (!isFinite(beta) || isBlack(beta)) break;
+        if (!isFinite(beta) || isBlack(beta)) {
+            addVertexLight(prepareDirectLight(scene, sp, uLight, uChoice.x, true));
+            break;
+        }
         // Every vertex before a specular bounce read the caustic map, so a light found through
         // it is a caustic already counted there (a dome is not in the map).
         const bool lightsAreCaustics = caustics && bs.delta;
         Vec3 wi = sp.frame.toWorld(bs.wi);
         Ray next = spawnRay(sp.si, wi);
-        Intersection hit = intersectVisible(scene, next, sampler, stats, false);
+        Scene::PendingHit pending = scene.trace(next, stats, false);
+        DirectLightSample direct = prepareDirectLight(scene, sp, uLight, uChoice.x, true);
+        scene.prefetchSurface(pending);  // the indices have had the light sample's time to arrive
+        addVertexLight(direct);
+        Intersection hit = intersectVisible(scene, next, pending, sampler, stats, false);
         if (hit.kind == Intersection::Kind::None) {
             L += beta * (lightsAreCaustics ? domeRadiance(scene, next) : escapedRadiance(scene, next, bs.pdf, bs.delta, false));
             break;

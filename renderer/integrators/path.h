@@ -22,6 +22,9 @@ struct CausticPhotons {
 
 // Traces through stochastic-presence surfaces (cut-outs) to the first surface that stops the ray.
 Intersection intersectVisible(const Scene& scene, Ray ray, Sampler& sampler, RayStats& stats, bool cameraRay);
+// The same from the ray's first hit, already traced (Scene::trace).
+Intersection intersectVisible(const Scene& scene, Ray ray, const Scene::PendingHit& first, Sampler& sampler,
+                              RayStats& stats, bool cameraRay);
 
 class PathIntegrator : public Integrator {
 public:
