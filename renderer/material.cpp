@@ -85,12 +85,6 @@ float Material::presence(Vec2 uv) const {
 
 Bsdf Material::bsdf(Vec2 uv) const { return constantBsdf_ ? bsdf_ : evalBsdf(uv); }
 
-void Material::prefetchBsdfTextures(Vec2 uv) const {
-    if (constantBsdf_) return;
-    for (const Texture* t : {&diffuseTex_, &roughnessTex_, &opacity_, &specularTex_, &metallicTex_})
-        if (t->valid()) t->prefetch(uv);
-}
-
 Bsdf Material::evalBsdf(Vec2 uv) const {
     BsdfParams p;
     Color base = diffuseTex_.valid() ? sanitize(diffuseTex_.evalColor(uv)) : desc_.diffuseColor;

@@ -46,9 +46,6 @@ public:
     // ray stops here. 1 for solid surfaces.
     float presence(Vec2 uv) const;
     bool hasPresence() const { return hasPresence_; }
-    // Whether bsdf(uv) reads textures, and a start on loading the texels it will read at uv.
-    bool texturedBsdf() const { return !constantBsdf_; }
-    void prefetchBsdfTextures(Vec2 uv) const;
     // True when any lobe is a delta or glossy reflector/transmitter (caustic paths need these).
     bool isSpecular() const { return specular_; }
     bool transmits() const { return transparentMode_ && (desc_.opacity < 1 || opacity_.valid()); }

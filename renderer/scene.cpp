@@ -788,10 +788,6 @@ void Scene::prefetchSurface(const PendingHit& pending) const {
     }
 }
 
-bool Scene::texturedSurface(const PendingHit& pending) const {
-    return pending.hit.kind == Intersection::Kind::Surface && materials_[hitShape(pending.rh.hit)->material]->texturedBsdf();
-}
-
 Intersection Scene::finish(const Ray& ray, const PendingHit& pending) const {
     Intersection result = pending.hit;
     if (result.kind == Intersection::Kind::Surface) result.si = makeInteraction(ray, pending.rh);

@@ -107,8 +107,6 @@ public:
     };
     PendingHit trace(const Ray& ray, RayStats& stats, bool cameraRay = false) const;
     void prefetchSurface(const PendingHit& pending) const;
-    // Whether the surface hit has a textured BSDF (Material::texturedBsdf).
-    bool texturedSurface(const PendingHit& pending) const;
     Intersection finish(const Ray& ray, const PendingHit& pending) const;
     // `time`: within the shutter (Ray::time); preprocessing tests (portals) see shutter open.
     bool occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats, float time = 0) const;

@@ -106,27 +106,21 @@ std::shared_ptr<Image> Image::fromPixels(int width, int height, std::vector<floa
     return image;
 }
 
-void Image::footprint(float u, float v, int wrapS, int wrapT, int xs[2], int ys[2], float* fx, float* fy) const {
+void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4]) const {
     // Texel centres at half-integers; v flipped because row 0 is the top of the file.
     float x = u * width_ - 0.5f, y = (1 - v) * height_ - 0.5f;
     if (!std::isfinite(x) || !std::isfinite(y)) x = y = 0;
     x = std::clamp(x, -1e7f, 1e7f);
     y = std::clamp(y, -1e7f, 1e7f);
     int x0 = int(std::floor(x)), y0 = int(std::floor(y));
-    *fx = x - x0, *fy = y - y0;
-    // Rows and columns wrapped once, not per texel.
-    xs[0] = x0, xs[1] = x0 + 1, ys[0] = y0, ys[1] = y0 + 1;
+    float fx = x - x0, fy = y - y0;
+    for (int c = 0; c < 4; ++c) out[c] = 0;
+    // Rows and columns wrapped once, not per texel: the four texels' coordinates, or -1 for black.
+    int xs[2] = {x0, x0 + 1}, ys[2] = {y0, y0 + 1};
     for (int i = 0; i < 2; ++i) {
         if (!wrapCoordinate(xs[i], width_, wrapS)) xs[i] = -1;
         if (!wrapCoordinate(ys[i], height_, wrapT)) ys[i] = -1;
     }
-}
-
-void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4]) const {
-    int xs[2], ys[2];
-    float fx, fy;
-    footprint(u, v, wrapS, wrapT, xs, ys, &fx, &fy);
-    for (int c = 0; c < 4; ++c) out[c] = 0;
     for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
             int xi = xs[dx], yi = ys[dy];
@@ -135,18 +129,6 @@ void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4]) const {
             float t[4];
             texel(xi, yi, t);
             for (int c = 0; c < 4; ++c) out[c] += w * t[c];
-        }
-}
-
-void Image::prefetch(float u, float v, int wrapS, int wrapT) const {
-    int xs[2], ys[2];
-    float fx, fy;
-    footprint(u, v, wrapS, wrapT, xs, ys, &fx, &fy);
-    for (int yi : ys)
-        for (int xi : xs) {
-            if (xi < 0 || yi < 0) continue;
-            size_t i = (size_t(yi) * width_ + xi) * 4;
-            __builtin_prefetch(bytes_.empty() ? static_cast<const void*>(&pixels_[i]) : &bytes_[i]);
         }
 }
 
@@ -171,11 +153,6 @@ void Texture::evalRaw(Vec2 uv, float out[4]) const {
     float v = st[1][0] * uv.x + st[1][1] * uv.y + st[1][2];
     image->lookup(u, v, wrapS, wrapT, out);
     for (int c = 0; c < 4; ++c) out[c] = out[c] * desc.scale[c] + desc.bias[c];
-}
-
-void Texture::prefetch(Vec2 uv) const {
-    image->prefetch(st[0][0] * uv.x + st[0][1] * uv.y + st[0][2], st[1][0] * uv.x + st[1][1] * uv.y + st[1][2], wrapS,
-                    wrapT);
 }
 
 Color Texture::evalColor(Vec2 uv) const {

@@ -32,8 +32,6 @@ public:
     static std::shared_ptr<Image> fromBytes(int width, int height, std::vector<uint8_t> rgba, bool srgb);
     // Bilinear lookup; (u, v) with v = 0 at the bottom row, as USD's st.
     void lookup(float u, float v, int wrapS, int wrapT, float out[4]) const;
-    // Starts loading the texels lookup(u, v, ...) will read, for a caller with other work to do first.
-    void prefetch(float u, float v, int wrapS, int wrapT) const;
     int width() const { return width_; }
     int height() const { return height_; }
     // Linear RGBA of one texel.
@@ -49,9 +47,6 @@ public:
     size_t memoryBytes() const { return pixels_.size() * sizeof(float) + bytes_.size(); }
 
 private:
-    // The texel grid lookup reads at (u, v): columns xs, rows ys (-1: outside, black), weights fx, fy.
-    void footprint(float u, float v, int wrapS, int wrapT, int xs[2], int ys[2], float* fx, float* fy) const;
-
     int width_ = 0, height_ = 0;
     std::vector<float> pixels_;   // RGBA, top row first (float and 16-bit images)
     std::vector<uint8_t> bytes_;  // RGBA, top row first (8-bit images)
@@ -73,7 +68,6 @@ struct Texture {
 
     void prepare();  // computes wrap modes, channel and the st matrix from `desc`
     bool valid() const { return image != nullptr; }
-    void prefetch(Vec2 uv) const;  // the texels an eval at uv reads (Image::prefetch)
     Color evalColor(Vec2 uv) const;
     float evalFloat(Vec2 uv) const;
     void evalRaw(Vec2 uv, float out[4]) const;

@@ -86,17 +86,8 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
         Scene::PendingHit pending = scene.trace(next, stats, false);
         DirectLightSample direct = prepareDirectLight(scene, sp, uLight, uChoice.x, true);
         scene.prefetchSurface(pending);  // the indices have had the light sample's time to arrive
-        Intersection hit;
-        if (scene.texturedSurface(pending)) {
-            // The shadow ray's time goes to loading the texels the next hit's BSDF reads, the
-            // larger wait (a texture is bigger than its mesh) than its triangle data's.
-            hit = intersectVisible(scene, next, pending, sampler, stats, false);
-            if (hit.kind == Intersection::Kind::Surface) hit.si.material->prefetchBsdfTextures(hit.si.uv);
-            addVertexLight(direct);
-        } else {
-            addVertexLight(direct);
-            hit = intersectVisible(scene, next, pending, sampler, stats, false);
-        }
+        addVertexLight(direct);
+        Intersection hit = intersectVisible(scene, next, pending, sampler, stats, false);
         if (hit.kind == Intersection::Kind::None) {
             L += beta * (lightsAreCaustics ? domeRadiance(scene, next) : escapedRadiance(scene, next, bs.pdf, bs.delta, false));
             break;
