@@ -585,16 +585,8 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const RTCRayHit& rh) c
     SurfaceInteraction si;
     const RTCHit& h = rh.hit;
     const Instance* inst = nullptr;
-    int shapeId;
-    if (h.instID[0] != RTC_INVALID_GEOMETRY_ID && h.instID[0] == staticBvhGeom_) {
-        shapeId = staticBvhToShape_[h.geomID];
-    } else if (h.instID[0] != RTC_INVALID_GEOMETRY_ID) {
-        inst = &instances_[-topGeomToShape_[h.instID[0]] - 1];
-        shapeId = prototypes_[inst->prototype].geomToShape[h.geomID];
-        si.instanceId = uint32_t(-topGeomToShape_[h.instID[0]] - 1);
-    } else {
-        shapeId = topGeomToShape_[h.geomID];
-    }
+    const int shapeId = hitShape(h, &inst);
+    if (inst) si.instanceId = uint32_t(inst - instances_.data());
     const Shape& s = shapes_[shapeId];
     // The geometry the ray hit: moving shapes and instances where they are at the ray's time.
     const Mat4 toWorld = !inst ? Mat4() : inst->stepToWorld.empty() ? inst->toWorld : atTime(inst->stepToWorld, ray.time);
@@ -769,7 +761,9 @@ Scene::PendingHit Scene::trace(const Ray& ray, RayStats& stats, bool cameraRay) 
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
         result.kind = Intersection::Kind::Surface;
         result.t = rh.ray.tfar;
-        if (const Shape* s = hitShape(rh.hit); s && !s->isSphere) __builtin_prefetch(&s->indices[3 * size_t(rh.hit.primID)]);
+        pending.shape = hitShape(rh.hit, nullptr);
+        const Shape& s = shapes_[pending.shape];
+        if (!s.isSphere) __builtin_prefetch(&s.indices[3 * size_t(rh.hit.primID)]);
     }
     // Area lights are analytic: tested after the surface BVH, up to the surface hit.
     intersectAnalyticLights(ray, cameraRay, result);
@@ -778,13 +772,13 @@ Scene::PendingHit Scene::trace(const Ray& ray, RayStats& stats, bool cameraRay) 
 
 void Scene::prefetchSurface(const PendingHit& pending) const {
     if (pending.hit.kind != Intersection::Kind::Surface) return;
-    const Shape* s = hitShape(pending.rh.hit);
-    if (!s || s->isSphere || !s->stepPositions.empty()) return;
-    const uint32_t* corner = &s->indices[3 * size_t(pending.rh.hit.primID)];
+    const Shape& s = shapes_[pending.shape];
+    if (s.isSphere || !s.stepPositions.empty()) return;
+    const uint32_t* corner = &s.indices[3 * size_t(pending.rh.hit.primID)];
     for (int k = 0; k < 3; ++k) {
-        __builtin_prefetch(&s->positions[corner[k]]);
-        if (!s->normals.empty()) __builtin_prefetch(&s->normals[corner[k]]);
-        if (!s->uvs.empty()) __builtin_prefetch(&s->uvs[corner[k]]);
+        __builtin_prefetch(&s.positions[corner[k]]);
+        if (!s.normals.empty()) __builtin_prefetch(&s.normals[corner[k]]);
+        if (!s.uvs.empty()) __builtin_prefetch(&s.uvs[corner[k]]);
     }
 }
 
@@ -794,13 +788,12 @@ Intersection Scene::finish(const Ray& ray, const PendingHit& pending) const {
     return result;
 }
 
-const Scene::Shape* Scene::hitShape(const RTCHit& h) const {
-    if (h.instID[0] != RTC_INVALID_GEOMETRY_ID && h.instID[0] == staticBvhGeom_) return &shapes_[staticBvhToShape_[h.geomID]];
-    if (h.instID[0] != RTC_INVALID_GEOMETRY_ID) {
-        const Instance& inst = instances_[-topGeomToShape_[h.instID[0]] - 1];
-        return &shapes_[prototypes_[inst.prototype].geomToShape[h.geomID]];
-    }
-    return &shapes_[topGeomToShape_[h.geomID]];
+int Scene::hitShape(const RTCHit& h, const Instance** instance) const {
+    if (h.instID[0] == RTC_INVALID_GEOMETRY_ID) return topGeomToShape_[h.geomID];
+    if (h.instID[0] == staticBvhGeom_) return staticBvhToShape_[h.geomID];
+    const Instance& inst = instances_[-topGeomToShape_[h.instID[0]] - 1];
+    if (instance) *instance = &inst;
+    return prototypes_[inst.prototype].geomToShape[h.geomID];
 }
 
 bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats, float time) const {

@@ -104,6 +104,7 @@ public:
     struct PendingHit {
         Intersection hit;  // kind, t and light; si is filled by finish
         RTCRayHit rh;
+        int shape = -1;    // the surface hit's shape
     };
     PendingHit trace(const Ray& ray, RayStats& stats, bool cameraRay = false) const;
     void prefetchSurface(const PendingHit& pending) const;
@@ -221,8 +222,9 @@ private:
     static void intersectLightPrimitive(const struct RTCIntersectFunctionNArguments* args);
     void bindMaterials();
     SurfaceInteraction makeInteraction(const Ray& ray, const RTCRayHit& hit) const;
-    // The shape an Embree hit is on (in the top level, the static BVH or an instance's prototype).
-    const Shape* hitShape(const RTCHit& hit) const;
+    // The shape an Embree hit is on (in the top level, the static BVH or an instance's prototype),
+    // and the instance it is seen through (null for the top level's and the static BVH's).
+    int hitShape(const RTCHit& hit, const Instance** instance) const;
     Texture loadTexture(const TextureDesc& desc, const std::string& materialName, const std::string& input);
     int defaultMaterial();
 

@@ -69,12 +69,12 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
             L += caustic;
             if (causticPart) *causticPart += caustic;
         };
-        if (!bs.valid || (bs.delta && depthLimitReached(specularVertices++, rayDepth_, stats))) {
-            addVertexLight(prepareDirectLight(scene, sp, uLight, uChoice.x, true));
-            break;
+        bool goesOn = bs.valid && !(bs.delta && depthLimitReached(specularVertices++, rayDepth_, stats));
+        if (goesOn) {
+            beta *= bs.weight;
+            goesOn = isFinite(beta) && !isBlack(beta);
         }
-        beta *= bs.weight;
-        if (!isFinite(beta) || isBlack(beta)) {
+        if (!goesOn) {
             addVertexLight(prepareDirectLight(scene, sp, uLight, uChoice.x, true));
             break;
         }

@@ -51,6 +51,16 @@ inline int addQuad(Scene& s, const char* name, Vec3 p0, Vec3 p1, Vec3 p2, Vec3 p
 }
 
 // A closed, subdivided icosahedron of the given radius around the origin.
+// A 2 x 2 room of the given height on y = 0, |x|, |z| <= 1: its floor and four walls, facing in; no ceiling.
+inline void addRoomWalls(Scene& s, float height, int floorMaterial, int wallMaterial) {
+    const float h = height;
+    addQuad(s, "/Floor", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, floorMaterial);
+    addQuad(s, "/Back", {-1, 0, -1}, {1, 0, -1}, {1, h, -1}, {-1, h, -1}, wallMaterial);
+    addQuad(s, "/Front", {-1, 0, 1}, {-1, h, 1}, {1, h, 1}, {1, 0, 1}, wallMaterial);
+    addQuad(s, "/Left", {-1, 0, -1}, {-1, h, -1}, {-1, h, 1}, {-1, 0, 1}, wallMaterial);
+    addQuad(s, "/Right", {1, 0, -1}, {1, 0, 1}, {1, h, 1}, {1, h, -1}, wallMaterial);
+}
+
 inline void addIcosphere(Scene& s, float radius, int subdivisions, int material) {
     const float t = (1.0f + std::sqrt(5.0f)) / 2;
     std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},

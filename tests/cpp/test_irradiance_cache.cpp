@@ -614,11 +614,7 @@ TEST(IrradianceCacheRender, RenderTimeRecordsJoinTheCacheForTheNextPass) {
 TEST(IrradianceCacheRender, AdaptiveRefinementKeepsBrightRecords) {
     auto build = [](Scene& scene) {
         int white = scene.addMaterial(lambert(Color(0.7f)));
-        addQuad(scene, "/Floor", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, white);
-        addQuad(scene, "/Back", {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, white);
-        addQuad(scene, "/Front", {-1, 0, 1}, {-1, 2, 1}, {1, 2, 1}, {1, 0, 1}, white);
-        addQuad(scene, "/Left", {-1, 0, -1}, {-1, 2, -1}, {-1, 2, 1}, {-1, 0, 1}, white);
-        addQuad(scene, "/Right", {1, 0, -1}, {1, 0, 1}, {1, 2, 1}, {1, 2, -1}, white);
+        addRoomWalls(scene, 2, white, white);
         const float h = 0.15f;  // the hole: |x|, |z| < h
         addQuad(scene, "/CeilingA", {-1, 2, -1}, {-1, 2, 1}, {-h, 2, 1}, {-h, 2, -1}, white);
         addQuad(scene, "/CeilingB", {h, 2, -1}, {h, 2, 1}, {1, 2, 1}, {1, 2, -1}, white);

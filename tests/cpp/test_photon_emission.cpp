@@ -141,11 +141,7 @@ LightDesc portalOverTheBox(bool upsideDown = false) {
 void buildHalfOpenBox(Scene& scene, bool sky = true) {
     int grey = scene.addMaterial(lambert(Color(0.5f)));
     int black = scene.addMaterial(lambert(Color(0.0f)));
-    addQuad(scene, "/Floor", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, grey);
-    addQuad(scene, "/WallA", {-1, 0, -1}, {1, 0, -1}, {1, 1, -1}, {-1, 1, -1}, black);
-    addQuad(scene, "/WallB", {-1, 0, 1}, {-1, 1, 1}, {1, 1, 1}, {1, 0, 1}, black);
-    addQuad(scene, "/WallC", {-1, 0, -1}, {-1, 1, -1}, {-1, 1, 1}, {-1, 0, 1}, black);
-    addQuad(scene, "/WallD", {1, 0, -1}, {1, 0, 1}, {1, 1, 1}, {1, 1, -1}, black);
+    addRoomWalls(scene, 1, grey, black);
     if (sky)
         addSunAndSky(scene);
     else

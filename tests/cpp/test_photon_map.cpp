@@ -823,11 +823,7 @@ TEST(PhotonMapRender, SkyThroughGlassIsGatheredOnce) {
         int white = scene.addMaterial(lambert(Color(0.6f)));
         int g = scene.addMaterial(smoothGlass(Color(1.0f)));
         // A 2 x 2 x 2 room; the ceiling (y = 2) open over |x|, |z| < 0.5, where the pane is.
-        addQuad(scene, "/Floor", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, white);
-        addQuad(scene, "/Back", {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, white);
-        addQuad(scene, "/Front", {-1, 0, 1}, {-1, 2, 1}, {1, 2, 1}, {1, 0, 1}, white);
-        addQuad(scene, "/Left", {-1, 0, -1}, {-1, 2, -1}, {-1, 2, 1}, {-1, 0, 1}, white);
-        addQuad(scene, "/Right", {1, 0, -1}, {1, 0, 1}, {1, 2, 1}, {1, 2, -1}, white);
+        addRoomWalls(scene, 2, white, white);
         addQuad(scene, "/CeilingA", {-1, 2, -1}, {-0.5f, 2, -1}, {-0.5f, 2, 1}, {-1, 2, 1}, white);
         addQuad(scene, "/CeilingB", {0.5f, 2, -1}, {1, 2, -1}, {1, 2, 1}, {0.5f, 2, 1}, white);
         addQuad(scene, "/CeilingC", {-0.5f, 2, -1}, {0.5f, 2, -1}, {0.5f, 2, -0.5f}, {-0.5f, 2, -0.5f}, white);
