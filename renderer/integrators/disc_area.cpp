@@ -20,8 +20,7 @@ float discArea(const PhotonLookup& at, float radius, Sampler& sampler, RayStats&
     const float lift = 0.05f * radius;
     const float stretch = kDiscFlattening * kDiscFlattening - 1;
     const Vec2 shift = sampler.get2D();
-    // Whether the surface a probe meets would hold photons the lookup counts, and its area
-    // per projected area (0 if not).
+    // Whether the surface a probe meets would hold photons the lookup counts (1) or not (0).
     auto probe = [&](int j) -> double {
         float angle = 2 * kPi * std::fmod(shift.x + float(j) / kDiscProbes, 1.0f);
         float along = radius * std::sqrt(std::fmod(shift.y + float(j) * 13 / kDiscProbes, 1.0f));
@@ -39,7 +38,7 @@ float discArea(const PhotonLookup& at, float radius, Sampler& sampler, RayStats&
         uint32_t surface = photonSurface(hit.si.shapeId, hit.si.instanceId);
         if (at.surface != kAnySurface && surface != at.surface && !clearBetween(scene, at.p, at.n, hit.si.p, n, lift))
             return 0;
-        return 1.0 / std::max(0.5f, std::abs(dot(hit.si.ng, plane)));
+        return 1.0;
     };
     // The even probes are the 8-point lattice (generator 5/8): if all of them count, the disc is full.
     double counted = 0;

@@ -9,8 +9,9 @@
 // photon or less on average (Sibenik under its sky: 0.3), as do final gathering's reads of a
 // sparse global map at its largest radius, so there the share is measured:
 // rays cast down through the disc along its normal, each counting the surface it first meets
-// if a photon stored there would pass the lookup's guards, weighted by the surface's area per
-// projected area (its tilt). The probes are a randomly shifted Fibonacci lattice over the
+// if a photon stored there would pass the lookup's guards: the area of the disc's plane those
+// surfaces cover, as photons on a tilted face count by cos(tilt) per area of that plane
+// (PhotonMap's estimates). The probes are a randomly shifted Fibonacci lattice over the
 // disc, so each is uniform over it and the measured area is unbiased; over a surface that
 // fills the disc every probe counts and the area is exactly pi r^2.
 #pragma once

@@ -60,7 +60,11 @@ PhotonEstimate PhotonMap::estimate(const PhotonLookup& at, int k, float maxRadiu
         const Photon& photon = tree_[found[i].index];
         if (!reaches(photon, at, lift)) continue;
         float filter = coneFilter > 0 ? 1 - std::sqrt(found[i].distance2 / radius2) / coneFilter : 1.0f;
-        sum += weight(photon) * std::max(0.0f, filter);
+        // A photon on a face tilted from the query's plane stands for cos(tilt) of its power per
+        // area of that plane (the face's area projects onto it shrunk by cos): the disc's pi r^2
+        // is an area of the plane.
+        float tilt = std::max(0.0f, dot(photon.n(), at.n));
+        sum += weight(photon) * (std::max(0.0f, filter) * tilt);
         e.photons++;
         Vec3 d = tangent.toLocal(photon.p - at.p);
         sx += d.x, sy += d.y, sxx += double(d.x) * d.x, syy += double(d.y) * d.y, sxy += double(d.x) * d.y;
