@@ -72,7 +72,8 @@ INSTANTIATE_TEST_SUITE_P(
 // has a standard deviation of 0.9% (measured over seeds 1-6: 0.994-1.015), so they average
 // four seeds at 128x128 (~280 records each): 0.25%, a quarter of the bound. The progressive
 // photon map's first radius is 4 pixel footprints: at 16x16 that disc spans several of the
-// icosphere's facets and the normal guard drops photons (-1.3% after 16 samples), at 64x64 not.
+// icosphere's facets and the normal guard dropped photons (-1.3% after 16 samples, with the
+// 26-degree guard of then), at 64x64 not.
 struct DefaultFurnaceCase {
     const char* integrator;
     int size, spp, seeds;
