@@ -402,7 +402,7 @@ void Scene::commit() {
     top_ = rtcNewScene(device_->device);
     rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
     for (int i : buildStaticBvh(fingerprints)) buildShapeGeometry(top_, topGeomToShape_, i);
-    if (staticBvh_) {  // identity-instanced: its hits are the top level's (makeInteraction)
+    if (staticBvh_) {  // identity-instanced: its hits are the top level's (hitShape)
         RTCGeometry g = rtcNewGeometry(device_->device, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(g, staticBvh_->rtc);
         const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
@@ -581,12 +581,13 @@ void Scene::buildLights() {
     stats_.lights = lights_.size();
 }
 
-SurfaceInteraction Scene::makeInteraction(const Ray& ray, const RTCRayHit& rh) const {
+SurfaceInteraction Scene::makeInteraction(const Ray& ray, const PendingHit& pending) const {
     SurfaceInteraction si;
+    const RTCRayHit& rh = pending.rh;
     const RTCHit& h = rh.hit;
-    const Instance* inst = nullptr;
-    const int shapeId = hitShape(h, &inst);
-    if (inst) si.instanceId = uint32_t(inst - instances_.data());
+    const int shapeId = pending.shape;
+    const Instance* inst = pending.instance >= 0 ? &instances_[size_t(pending.instance)] : nullptr;
+    if (inst) si.instanceId = uint32_t(pending.instance);
     const Shape& s = shapes_[shapeId];
     // The geometry the ray hit: moving shapes and instances where they are at the ray's time.
     const Mat4 toWorld = !inst ? Mat4() : inst->stepToWorld.empty() ? inst->toWorld : atTime(inst->stepToWorld, ray.time);
@@ -761,7 +762,7 @@ Scene::PendingHit Scene::trace(const Ray& ray, RayStats& stats, bool cameraRay) 
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
         result.kind = Intersection::Kind::Surface;
         result.t = rh.ray.tfar;
-        pending.shape = hitShape(rh.hit, nullptr);
+        pending.shape = hitShape(rh.hit, &pending.instance);
         const Shape& s = shapes_[pending.shape];
         if (!s.isSphere) __builtin_prefetch(&s.indices[3 * size_t(rh.hit.primID)]);
     }
@@ -784,16 +785,15 @@ void Scene::prefetchSurface(const PendingHit& pending) const {
 
 Intersection Scene::finish(const Ray& ray, const PendingHit& pending) const {
     Intersection result = pending.hit;
-    if (result.kind == Intersection::Kind::Surface) result.si = makeInteraction(ray, pending.rh);
+    if (result.kind == Intersection::Kind::Surface) result.si = makeInteraction(ray, pending);
     return result;
 }
 
-int Scene::hitShape(const RTCHit& h, const Instance** instance) const {
+int Scene::hitShape(const RTCHit& h, int* instance) const {
     if (h.instID[0] == RTC_INVALID_GEOMETRY_ID) return topGeomToShape_[h.geomID];
     if (h.instID[0] == staticBvhGeom_) return staticBvhToShape_[h.geomID];
-    const Instance& inst = instances_[-topGeomToShape_[h.instID[0]] - 1];
-    if (instance) *instance = &inst;
-    return prototypes_[inst.prototype].geomToShape[h.geomID];
+    *instance = -topGeomToShape_[h.instID[0]] - 1;
+    return prototypes_[instances_[size_t(*instance)].prototype].geomToShape[h.geomID];
 }
 
 bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RayStats& stats, float time) const {

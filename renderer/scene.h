@@ -105,6 +105,7 @@ public:
         Intersection hit;  // kind, t and light; si is filled by finish
         RTCRayHit rh;
         int shape = -1;    // the surface hit's shape
+        int instance = -1; // the instance it is seen through (none: the top level or the static BVH)
     };
     PendingHit trace(const Ray& ray, RayStats& stats, bool cameraRay = false) const;
     void prefetchSurface(const PendingHit& pending) const;
@@ -221,10 +222,11 @@ private:
     void intersectAnalyticLights(const Ray& ray, bool cameraRay, Intersection& result) const;
     static void intersectLightPrimitive(const struct RTCIntersectFunctionNArguments* args);
     void bindMaterials();
-    SurfaceInteraction makeInteraction(const Ray& ray, const RTCRayHit& hit) const;
-    // The shape an Embree hit is on (in the top level, the static BVH or an instance's prototype),
-    // and the instance it is seen through (null for the top level's and the static BVH's).
-    int hitShape(const RTCHit& hit, const Instance** instance) const;
+    SurfaceInteraction makeInteraction(const Ray& ray, const PendingHit& hit) const;
+    // The shape an Embree hit is on (in the top level, the static BVH or an instance's prototype);
+    // *instance is set to the instance it is seen through, left alone for the top level's and the
+    // static BVH's. Resolved once per hit, in trace.
+    int hitShape(const RTCHit& hit, int* instance) const;
     Texture loadTexture(const TextureDesc& desc, const std::string& materialName, const std::string& input);
     int defaultMaterial();
 

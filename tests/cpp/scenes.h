@@ -50,7 +50,6 @@ inline int addQuad(Scene& s, const char* name, Vec3 p0, Vec3 p1, Vec3 p2, Vec3 p
     return s.addMesh(name, {p0, p1, p2, p3}, {0, 1, 2, 0, 2, 3}, {}, {}, material, nullptr, true, -1);
 }
 
-// A closed, subdivided icosahedron of the given radius around the origin.
 // A 2 x 2 room of the given height on y = 0, |x|, |z| <= 1: its floor and four walls, facing in; no ceiling.
 inline void addRoomWalls(Scene& s, float height, int floorMaterial, int wallMaterial) {
     const float h = height;
@@ -61,6 +60,7 @@ inline void addRoomWalls(Scene& s, float height, int floorMaterial, int wallMate
     addQuad(s, "/Right", {1, 0, -1}, {1, 0, 1}, {1, h, 1}, {1, h, -1}, wallMaterial);
 }
 
+// A closed, subdivided icosahedron of the given radius around the origin.
 inline void addIcosphere(Scene& s, float radius, int subdivisions, int material) {
     const float t = (1.0f + std::sqrt(5.0f)) / 2;
     std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
