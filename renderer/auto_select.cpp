@@ -6,6 +6,7 @@
 #include <limits>
 #include <utility>
 
+#include "integrators/progressive_photon_map.h"
 #include "render.h"
 
 namespace gi {
@@ -48,6 +49,41 @@ double pilotWeight(const std::string& integrator) {
     if (integrator == "progressivePhotonMap") return 2;
     if (integrator == "photonMapIrradianceCache" || integrator == "photonMapFinalGather") return 1.5;
     return 1;
+}
+
+// The mean over sample indices [first, end) of s_i^power, s_i = (r_i / r_1)^2 the progressive
+// photon map's squared radius at index i: power 1 is how its blur (bias, as r^2) goes, power -1
+// how its photon noise goes (a pass's variance, as 1 / r^2). Exact over the first 4096 indices,
+// then a midpoint rule (s_i is smooth there) so a long render costs no more.
+double meanRadiusPower(double alpha, double first, double end, double power) {
+    if (!(end > first)) return 1;
+    auto term = [&](double i) {
+        return std::pow(double(ProgressivePhotonMapIntegrator::radiusScale(uint32_t(i), float(alpha))), 2 * power);
+    };
+    constexpr int kExact = 4096;
+    const double exactEnd = std::min(end, first + kExact);
+    double sum = 0;
+    for (double i = first; i < exactEnd; ++i) sum += term(i);
+    if (end > exactEnd) {
+        const double width = (end - exactEnd) / kExact;
+        for (int k = 0; k < kExact; ++k) sum += width * term(std::floor(exactEnd + (k + 0.5) * width));
+    }
+    return sum / (end - first);
+}
+
+// A pilot's mean value over its image, and that mean's variance from its batches' spread.
+void meanBrightness(const AutoPilot& pilot, double& mean, double& varianceOfMean) {
+    std::vector<double> perBatch;
+    for (const auto& batch : pilot.batches) {
+        double sum = 0;
+        for (float v : batch) sum += v;
+        perBatch.push_back(sum / double(std::max<size_t>(1, batch.size())));
+    }
+    mean = 0;
+    for (double b : perBatch) mean += b / double(perBatch.size());
+    double variance = 0;
+    for (double b : perBatch) variance += (b - mean) * (b - mean) / double(perBatch.size() - 1);
+    varianceOfMean = variance / double(perBatch.size());
 }
 
 double meanSquaredDifference(const std::vector<double>& a, const std::vector<double>& b) {
@@ -122,7 +158,10 @@ bool renderBatch(Renderer& renderer, int firstSample, double deadline, double la
 // of consecutive sample indices, each with an equal share of the time left, or one sample per
 // pixel if that takes longer (an expensive technique's pilot makes fewer batches: as many as
 // fit). A batch that cannot take a sample in every pixel before the pilot's end ends the pilot;
-// it is complete with two batches or more, and incomplete when cancelled.
+// it is complete with two batches or more, and incomplete when cancelled. A technique with a
+// cache (records, photon maps) preprocesses twice, with two seeds, each with half the time and
+// half the batches, so that the two caches' difference measures the cache's own noise; a second
+// cache that makes fewer than two batches is dropped, and the pilot is as with one.
 AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const CameraDesc& camera,
                       const std::string& integrator, int width, int height, double seconds, uint32_t seed,
                       const std::atomic<bool>* cancel) {
@@ -131,24 +170,60 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
     pilot.seconds = seconds;
     pilot.width = width;
     pilot.height = height;
-    const double end = steadySeconds() + seconds;
-    Renderer renderer(scene, pilotSettings(settings, integrator, width, height, seed), &camera);
-    bool preprocessed = renderer.preprocess(cancel, end);
-    pilot.preprocessSeconds = renderer.stats().preprocessSeconds;
-    if (!preprocessed) return pilot;
-    const double renderStart = steadySeconds(), slice = std::max(0.0, end - renderStart) / kAutoPilotBatches;
-    int firstSample = 0;
-    double batchSeconds = 0;  // of the batches kept
-    for (int k = 0; k < kAutoPilotBatches; ++k) {
-        std::vector<float> image;
-        double before = renderer.stats().renderSeconds;
-        if (!renderBatch(renderer, firstSample, renderStart + (k + 1) * slice, end, cancel, image, firstSample))
-            break;
-        batchSeconds += renderer.stats().renderSeconds - before;
-        pilot.batches.push_back(std::move(image));
+    const double start = steadySeconds();
+    const RenderSettings ps = pilotSettings(settings, integrator, width, height, seed);
+    const IntegratorInfo& info = *findIntegrator(integrator);
+    if (integrator == "progressivePhotonMap") pilot.radiusAlpha = paramValue(info, ps.params, "alpha");
+    for (const ParamInfo& p : info.params) {
+        if (p.name == "photons" && !isConsistent(integrator))
+            pilot.photonShare = paramValue(info, ps.params, "photons") /
+                                std::max(1.0, paramValue(info, paramsFor(integrator, settings), "photons"));
+        if (p.name == "refineRecords") {
+            pilot.records = true;
+            pilot.refinesRecords = paramValue(info, ps.params, "refineRecords") != 0;
+        }
     }
+    const int caches = isConsistent(integrator) ? 1 : 2;
+    std::vector<double> batchSeconds;  // each batch's
+    std::vector<size_t> cacheBatches;
+    for (int c = 0; c < caches; ++c) {
+        const double end = start + seconds * (c + 1) / caches;
+        RenderSettings cs = ps;
+        cs.seed = seed + uint32_t(c);  // the next technique's pilot starts 2 seeds on
+        Renderer renderer(scene, cs, &camera);
+        bool preprocessed = renderer.preprocess(cancel, end);
+        pilot.preprocessSeconds += renderer.stats().preprocessSeconds / caches;
+        if (!preprocessed) break;
+        const int batches = kAutoPilotBatches / caches;
+        const double renderStart = steadySeconds(), slice = std::max(0.0, end - renderStart) / batches;
+        int firstSample = 0;
+        if (c == 0) pilot.batchStarts.push_back(firstSample);
+        size_t made = 0;
+        for (int k = 0; k < batches; ++k) {
+            std::vector<float> image;
+            double before = renderer.stats().renderSeconds;
+            if (!renderBatch(renderer, firstSample, renderStart + (k + 1) * slice, end, cancel, image, firstSample))
+                break;
+            batchSeconds.push_back(renderer.stats().renderSeconds - before);
+            pilot.batches.push_back(std::move(image));
+            if (caches == 1) pilot.batchStarts.push_back(firstSample);
+            ++made;
+        }
+        cacheBatches.push_back(made);
+        if (made < 2) break;
+    }
+    if (caches == 2) {
+        pilot.batchStarts.clear();
+        if (cacheBatches.size() == 2 && cacheBatches[1] >= 2) {
+            pilot.firstCacheBatches = int(cacheBatches[0]);
+        } else if (!cacheBatches.empty() && cacheBatches[0] >= 2) {
+            pilot.batches.resize(cacheBatches[0]);  // the second cache's lone batch, if any, goes
+        }
+    }
+    pilot.batchStarts.resize(caches == 1 ? pilot.batches.size() + 1 : 0);
     if (cancel && cancel->load()) return pilot;
-    pilot.renderSeconds = batchSeconds / std::max<size_t>(1, pilot.batches.size());
+    for (size_t k = 0; k < pilot.batches.size(); ++k) pilot.renderSeconds += batchSeconds[k];
+    pilot.renderSeconds /= double(std::max<size_t>(1, pilot.batches.size()));
     pilot.complete = pilot.batches.size() >= 2;
     return pilot;
 }
@@ -232,10 +307,15 @@ double predictedNoise(const AutoPilot& pilot, double q) {
     const size_t K = batches.size();
     if (K < 2 || !(q > 0)) return 0;
     const size_t n = batches[0].size();
-    std::vector<double> total(n, 0.0);
-    for (const auto& batch : batches)
-        for (size_t i = 0; i < n; ++i) total[i] += batch[i];
-    const double unbias = std::sqrt(double(K - 1) / double(K));
+    // A batch's deviation is from the other batches of its cache (two caches differ by more).
+    const size_t split = pilot.firstCacheBatches > 0 ? size_t(pilot.firstCacheBatches) : K;
+    if (split < 2 || (split < K && K - split < 2)) return 0;
+    std::vector<double> total(n, 0.0), firstTotal(n, 0.0);
+    for (size_t k = 0; k < K; ++k)
+        for (size_t i = 0; i < n; ++i) {
+            total[i] += batches[k][i];
+            if (k < split) firstTotal[i] += batches[k][i];
+        }
     double sum = 0;
     for (int y = 0; y < pilot.height; ++y)
         for (int x = 0; x < pilot.width; ++x)
@@ -249,9 +329,13 @@ double predictedNoise(const AutoPilot& pilot, double q) {
                 const size_t i = (size_t(y) * size_t(pilot.width) + size_t(x)) * 3 + size_t(channel);
                 double pixel = 0;
                 for (size_t k = 0; k < K; ++k) {
+                    const bool first = k < split;
+                    const double groupTotal = first ? firstTotal[i] : total[i] - firstTotal[i];
+                    const double group = first ? double(split) : double(K - split);
                     double value = batches[k][i];
                     double center = (window - value) / double(size_t(count) * K - 1);
-                    double deviation = unbias * (value - (total[i] - value) / double(K - 1));
+                    double deviation =
+                        std::sqrt((group - 1) / group) * (value - (groupTotal - value) / (group - 1));
                     double e = srgbCode(center + q * deviation) - srgbCode(center);
                     pixel += e * e;
                 }
@@ -274,14 +358,45 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     std::vector<double> meanNoise(pilots.size());  // noise(1 / K): of the mean of its K batches
     // A floor on the variance keeps a noiseless pilot from taking all the weight.
     constexpr double kNoiseFloor = 1e-3;
-    std::vector<double> reference(n, 0.0);
-    double weightSum = 0;
+    // The path tracer misses light when its pilot is darker than the progressive photon map's by
+    // more than this many standard errors of the difference and this share of the image's mean.
+    constexpr double kMissSigmas = 4, kMissShare = 0.02;
     for (size_t k = 0; k < pilots.size(); ++k) {
         if (!pilots[k].complete) continue;
         means[k] = meanImage(pilots[k].batches);
         meanNoise[k] = predictedNoise(pilots[k], 1.0 / double(pilots[k].batches.size()));
-        if (!isConsistent(pilots[k].integrator)) continue;
-        double w = 1.0 / (meanNoise[k] + kNoiseFloor);
+    }
+    // R, the consistent pilots' inverse-variance mean, counts the progressive photon map's blur as
+    // its variance: its pilot's first radii are wide, and wider in the world at the pilot's coarse
+    // pixels (4 to 5 codes RMSE on the Cornell box, as much as the caches' whole error), and the
+    // blur is its mean's difference from the path tracer's, less both noises. Unless the path
+    // tracer misses light (a sun through glass), which shows as a darker mean: a blur keeps the
+    // image's mean, a miss does not.
+    const AutoPilot* path = nullptr;
+    const AutoPilot* progressive = nullptr;
+    size_t pathIndex = 0, progressiveIndex = 0;
+    for (size_t k = 0; k < pilots.size(); ++k)
+        if (pilots[k].complete && pilots[k].integrator == "path") path = &pilots[pathIndex = k];
+        else if (pilots[k].complete && pilots[k].integrator == "progressivePhotonMap")
+            progressive = &pilots[progressiveIndex = k];
+    double progressiveBlur = 0;
+    bool pathMisses = false;
+    if (path && progressive) {
+        double pathMean, pathVariance, progressiveMean, progressiveVariance;
+        meanBrightness(*path, pathMean, pathVariance);
+        meanBrightness(*progressive, progressiveMean, progressiveVariance);
+        pathMisses = progressiveMean - pathMean >
+                     std::max(kMissSigmas * std::sqrt(pathVariance + progressiveVariance), kMissShare * progressiveMean);
+        if (!pathMisses)
+            progressiveBlur = std::max(0.0, meanSquaredDifference(srgbCodes(means[progressiveIndex]),
+                                                                  srgbCodes(means[pathIndex])) -
+                                                meanNoise[progressiveIndex] - meanNoise[pathIndex]);
+    }
+    std::vector<double> reference(n, 0.0);
+    double weightSum = 0;
+    for (size_t k = 0; k < pilots.size(); ++k) {
+        if (!pilots[k].complete || !isConsistent(pilots[k].integrator)) continue;
+        double w = 1.0 / (meanNoise[k] + (&pilots[k] == progressive ? progressiveBlur : 0) + kNoiseFloor);
         weightSum += w;
         for (size_t i = 0; i < n; ++i) reference[i] += w * means[k][i];
     }
@@ -291,6 +406,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     const bool compared = weightSum > 0;
     for (double& r : reference) r /= compared ? weightSum : 1;
     const std::vector<double> referenceCodes = srgbCodes(reference);
+    // R's mean squared error, its noise and the blur it holds: 1 / the weights' sum.
     const double referenceVariance = compared ? 1.0 / weightSum : 0;
 
     double pathMse = std::numeric_limits<double>::infinity();
@@ -307,7 +423,25 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             const double batches = double(pilots[k].batches.size());
             p.noise = predictedNoise(pilots[k], 1.0);
             double error = meanSquaredDifference(srgbCodes(means[k]), referenceCodes) - referenceVariance;
-            p.bias = std::max(0.0, error - meanNoise[k]);
+            const AutoPilot& pilot = pilots[k];
+            const size_t split = size_t(pilot.firstCacheBatches);
+            if (split > 0) {
+                // Two caches: their means' difference, less their batches' noise, is twice one
+                // cache's noise; the mean of both holds half of it.
+                const std::vector<std::vector<float>> first(pilot.batches.begin(), pilot.batches.begin() + long(split)),
+                    second(pilot.batches.begin() + long(split), pilot.batches.end());
+                double difference = meanSquaredDifference(srgbCodes(meanImage(first)), srgbCodes(meanImage(second)));
+                p.cacheNoise = std::max(0.0, (difference - predictedNoise(pilot, 1.0 / double(split)) -
+                                              predictedNoise(pilot, 1.0 / double(second.size()))) / 2);
+            }
+            p.bias = std::max(0.0, error - meanNoise[k] - p.cacheNoise / 2);
+            // R holds part of the photon map's own blur: against the path tracer it shows whole.
+            // Its radii are pixel footprints, so the pilot's are wider in the world by the pixels'
+            // size ratio, and its squared blur grows with the radius: on the Cornell box at 37x28
+            // (40,000 photons a pass, 64 samples) 10.5, 4.6 and 0.64 codes squared at 4, 2 and
+            // 0.92 pixels, a power of 1.9 over the whole range. Taken as r^2: the render's blur
+            // is the pilot's times the ratio of the pixel counts.
+            if (&pilot == progressive && !pathMisses) p.bias = progressiveBlur * std::min(1.0, pilotPixels / pixels);
             // The final render's time per pixel against one batch's: its preprocessing, as the
             // pilot's grown with the pixel count, takes at most its share of the budget.
             double finalPreprocess = std::min(kPreprocessShare * budgetSeconds,
@@ -315,8 +449,26 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             double finalSecondsPerPixel = std::max(budgetSeconds - finalPreprocess, 1e-3) / pixels;
             double batchSecondsPerPixel = std::max(p.renderSeconds, 1e-6) / pilotPixels;
             double ratio = std::min(1.0, batchSecondsPerPixel / finalSecondsPerPixel);
-            double mse = (p.consistent ? p.bias * std::min(1.0, batches * ratio) : p.bias) +
-                         predictedNoise(pilots[k], ratio);
+            double biasShare = p.consistent ? std::min(1.0, batches * ratio) : 1.0, noiseShare = ratio;
+            // A cache's own noise falls as its records gain paths with the camera's samples
+            // (refineRecords), and a photon map's as its photons grow to the render's.
+            double cacheShare = pilot.photonShare;
+            if (pilot.records) {
+                const double cacheBatches = split > 0 ? double(split) : batches;
+                cacheShare = std::max(cacheShare, pilot.refinesRecords ? std::min(1.0, cacheBatches * ratio) : 1.0);
+            }
+            if (pilot.radiusAlpha > 0 && pilot.batchStarts.size() == pilot.batches.size() + 1) {
+                // Its radii shrink: its bias goes as the mean s_i, and its noise falls more
+                // slowly than 1 / samples (as samples^-alpha), each pass noisier than the last.
+                const double first = pilot.batchStarts.front(), end = pilot.batchStarts.back();
+                const double finalSamples = std::min(1e9, (end - first) / batches / ratio);
+                const double a = pilot.radiusAlpha;
+                const double blur = meanRadiusPower(a, 0, finalSamples, 1) / meanRadiusPower(a, first, end, 1);
+                biasShare = std::min(1.0, blur * blur);
+                noiseShare = std::min(1.0, ratio * meanRadiusPower(a, 0, finalSamples, -1) /
+                                               meanRadiusPower(a, first, end, -1));
+            }
+            double mse = p.bias * biasShare + p.cacheNoise * cacheShare + predictedNoise(pilot, noiseShare);
             p.predictedRmse = std::sqrt(mse);
             if (p.integrator == "path") pathMse = mse;
         }

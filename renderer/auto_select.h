@@ -6,11 +6,14 @@
 //
 // Pilots are the final render in miniature: about kAutoPilotPixels pixels, the same camera, and
 // photon counts scaled with the pixel count (the same photons per pixel footprint). Each
-// technique preprocesses once and renders up to kAutoPilotBatches batches in equal shares of the
+// technique preprocesses and renders up to kAutoPilotBatches batches in equal shares of the
 // time left (each at least one sample per pixel, so an expensive technique makes fewer):
-// consecutive ranges of sample indices, each an image of its own (the progressive photon map's radii shrink across them as in
-// one render). The batches of a cache share its cache, so the cache's error counts as bias: at
-// fixed parameters no number of camera samples removes it.
+// consecutive ranges of sample indices, each an image of its own (the progressive photon map's
+// radii shrink across them as in one render). A technique with a cache (irradiance records,
+// photon maps) preprocesses twice, with two seeds, and renders half its batches from each: the
+// two caches' difference is the cache's own noise, which shrinks in the render (records gain
+// paths with the camera's samples, photon maps have the render's photons); what both share is
+// bias, which no number of camera samples removes.
 //
 // The prediction is of the RMSE on 8-bit sRGB codes f (the thesis's metric), and its noise part is
 // made from linear batch values, because f compresses highlights: in a pilot of few samples a
@@ -34,15 +37,34 @@
 //   old estimate 108; the centre without the window, c_k = m_k: 306).
 // Then, per technique,
 //   error  e = mean((f(M) - f(R))^2) - Var(f(R))      the pilot's mean's squared error, where R is
-//                                                     the inverse-variance mean of the consistent
-//                                                     techniques' pilots (path, progressivePhotonMap)
-//   bias   b2 = max(0, e - noise(1 / K))
-//   MSE(T) = b2 * min(1, K r) + noise(r) for the consistent techniques (for the path tracer a
-//            missed bright path is noise, not bias, and the progressive photon map's radii shrink),
-//            and b2 + noise(r) for the others, where r is one batch's render seconds per pixel over
-//            the final render's (its budget less its preprocessing, the pilot's grown with the pixel
-//            count and at most kPreprocessShare of the budget). A cache's pilot had less
-//            preprocessing than the final render will have, so this errs on its pessimistic side.
+//                                                     the path tracer's pilot, or where it misses
+//                                                     light, the inverse-variance mean of the
+//                                                     consistent techniques' (path,
+//                                                     progressivePhotonMap; see below)
+//   cache  c2 = max(0, mean((f(M_1) - f(M_2))^2) - noise(1 / K_1) - noise(1 / K_2)) / 2, with
+//               M_1, M_2 the two caches' means of K_1, K_2 batches (noise(q) then from each
+//               batch's deviation from its own cache's others); 0 with one cache
+//   bias   b2 = max(0, e - noise(1 / K) - c2 / 2)
+//   MSE(T) = b2 * min(1, K r) + noise(r) for the path tracer (a missed bright path is noise, not
+//            bias), where r is one batch's render seconds per pixel over the final render's (its
+//            budget less its preprocessing, the pilot's grown with the pixel count and at most
+//            kPreprocessShare of the budget);
+//            b2 * (h(N) / h(n))^2 + noise(r g(N) / g(n)) for the progressive photon map (its b2
+//            its blur against the path tracer, scaled from the pilot's wider radii), n the
+//            pilot's samples and N = n / (K r) the render's, h and g the mean of s_i and 1 / s_i
+//            over their sample indices, s_i = (r_i / r_1)^2: its blur goes as r^2, and each
+//            sample's photon noise as 1 / r^2, so its noise falls as N^-alpha, not N^-1 (on the
+//            Cornell box at 60 s 1 / N predicted 0.55 for 0.9 reached);
+//            b2 + c2 * share + noise(r) for the others, share the larger of K_1 r (records
+//            refined with the camera's samples; 1 if not refined) and the pilot's photons over the
+//            render's (on the Cornell box at 60 s the irradiance cache's pilot error, taken as bias
+//            alone, predicted 2.5 for 0.8 reached: refined records keep converging; with the
+//            cache's noise apart, 1.6 to 1.8, still pessimistic).
+// R is the path tracer's pilot unless the progressive photon map's is brighter in the mean by
+// more than 4 standard errors and 2%: its pilot's first radii, wide and wider in the world at the
+// pilot's coarse pixels, blur it by 4 to 5 codes RMSE on the Cornell box (the caches' whole
+// error), and a blur keeps the image's mean where a light the path tracer misses (a sun through
+// glass) does not.
 // A technique other than the path tracer is chosen only when its predicted MSE is below
 // kAutoMargin of the path tracer's, so an uncertain prediction falls back on the unbiased one.
 #pragma once
@@ -82,6 +104,7 @@ struct AutoPrediction {
     double pilotSeconds = 0;      // its share of the pilot time
     double renderSeconds = 0, preprocessSeconds = 0;  // of one batch; of the pilot
     double noise = 0, bias = 0;   // noise(1) (one batch's) and b2 above, sRGB codes squared
+    double cacheNoise = 0;        // c2 above: one cache's noise, sRGB codes squared
     double predictedRmse = 0;     // sqrt of the predicted MSE at the budget, sRGB codes
 };
 
@@ -104,6 +127,17 @@ struct AutoPilot {
     double renderSeconds = 0;      // of one batch (their mean)
     double preprocessSeconds = 0;  // of the pilot's preprocessing (shared by its batches)
     bool complete = false;         // at least two batches
+    // Batch k used sample indices [batchStarts[k], batchStarts[k + 1]) (one entry more than
+    // batches; empty for synthetic pilots of no particular indices).
+    std::vector<int> batchStarts;
+    // The progressive photon map's alpha: its radii shrink with the sample index (0 otherwise).
+    double radiusAlpha = 0;
+    // Two caches (records or photon maps, two seeds): batches [0, firstCacheBatches) used the
+    // first, the others the second; 0: one cache (or none).
+    int firstCacheBatches = 0;
+    double photonShare = 0;       // its photon map's photons over the render's (0: no photon map)
+    bool records = false;         // irradiance records...
+    bool refinesRecords = false;  // ... refined between passes by as many paths as the camera traced
 };
 
 // noise(q) above: the mean squared error, in sRGB codes, of an image with 1/q times one of

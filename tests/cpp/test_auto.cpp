@@ -52,6 +52,28 @@ AutoPilot syntheticPilot(const std::string& integrator, double bias, double sigm
     return pilot;
 }
 
+// As syntheticPilot, but from two caches of kAutoPilotBatches / 2 batches each: every value of a
+// cache is off by its own N(0, cacheSigma^2) codes, shared by the cache's batches, and value i by
+// `bias(i)` codes (the technique's fixed error: the same in both caches).
+template <class Bias>
+AutoPilot twoCachePilot(const std::string& integrator, Bias bias, double sigma, double cacheSigma, double seconds,
+                        uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    AutoPilot pilot = syntheticPilot(integrator, 0, sigma, seconds, seed);
+    std::vector<double> offset(kPilotPixels * 3);
+    for (size_t k = 0; k < pilot.batches.size(); ++k) {
+        if (k % (kAutoPilotBatches / 2) == 0)
+            for (size_t i = 0; i < offset.size(); ++i) offset[i] = bias(i) + cacheSigma * gauss(rng);
+        for (size_t i = 0; i < offset.size(); ++i) {
+            double code = kTruth + offset[i];
+            pilot.batches[k][i] = float(linearOf(code) + sigma / slopeAt(code) * gauss(rng));
+        }
+    }
+    pilot.firstCacheBatches = kAutoPilotBatches / 2;
+    return pilot;
+}
+
 const AutoPrediction& prediction(const AutoChoice& choice, const std::string& integrator) {
     for (const AutoPrediction& p : choice.predictions)
         if (p.integrator == integrator) return p;
@@ -175,6 +197,60 @@ TEST(Auto, ThePathTracersMissCountsAgainstIt) {
     EXPECT_NEAR(path.predictedRmse * path.predictedRmse,
                 path.bias * std::min(1.0, kAutoPilotBatches * 0.1) + predictedNoise(pilots[0], 0.1),
                 1e-9 * path.bias);
+}
+
+// A cache's own noise (two caches of different seeds differ by it) is told from its fixed bias:
+// cache noise 3 codes (9), bias 2 (4), batch noise 2. The two caches' mean difference, about
+// 2 * 9 + 2 * 4 / 4 = 20, less the batches' noise, over 2: its standard error over n = 6144
+// values is about 2 * 20 / sqrt(n) / 2 = 0.26, 4 sigma 1.0; the bias then carries R's noise (the
+// path tracer's: 4 / 8) and half the cache noise's error: within 1.2. The prediction at the
+// budget: the bias, plus the cache noise as the records gain paths (K / 2 r, r = 0.1, of it) or
+// all of it (records not refined), or the photon map's share (its photons over the render's).
+TEST(Auto, SeparatesACachesNoiseFromItsBias) {
+    auto fixed = [](size_t) { return 2.0; };
+    AutoPilot path = syntheticPilot("path", 0, 2, 0.1, 11);
+    AutoPilot refined = twoCachePilot("irradianceCache", fixed, 2, 3, 0.1, 12);
+    refined.records = refined.refinesRecords = true;
+    AutoPilot fixedRecords = refined;
+    fixedRecords.integrator = "adaptiveIrradianceCache";
+    fixedRecords.refinesRecords = false;
+    AutoPilot photons = twoCachePilot("photonMapFinalGather", fixed, 2, 3, 0.1, 13);
+    photons.photonShare = 0.05;
+    AutoChoice choice = predictFromPilots({path, refined, fixedRecords, photons}, kPilotPixels,
+                                          4.0 * kPilotPixels, 4.0);
+    for (const char* name : {"irradianceCache", "adaptiveIrradianceCache", "photonMapFinalGather"}) {
+        const AutoPrediction& p = prediction(choice, name);
+        EXPECT_NEAR(p.cacheNoise, 9, 1.0) << name;
+        EXPECT_NEAR(p.bias, 4, 1.2) << name;
+        EXPECT_NEAR(p.noise, 4, 0.2) << name;  // from each cache's own batches: no cache noise in it
+    }
+    auto mse = [&](const char* name) { return std::pow(prediction(choice, name).predictedRmse, 2); };
+    const AutoPrediction& r = prediction(choice, "irradianceCache");
+    EXPECT_NEAR(mse("irradianceCache"), r.bias + r.cacheNoise * 0.4 + predictedNoise(refined, 0.1), 1e-9);
+    const AutoPrediction& f = prediction(choice, "adaptiveIrradianceCache");
+    EXPECT_NEAR(mse("adaptiveIrradianceCache"), f.bias + f.cacheNoise + predictedNoise(fixedRecords, 0.1), 1e-9);
+    const AutoPrediction& g = prediction(choice, "photonMapFinalGather");
+    EXPECT_NEAR(mse("photonMapFinalGather"), g.bias + g.cacheNoise * 0.05 + predictedNoise(photons, 0.1), 1e-9);
+}
+
+// The progressive photon map's pilot blurs (+-6 codes on alternate values, the image's mean kept):
+// where the path tracer misses nothing, R weighs it by its blur (36) with its noise, so it takes
+// a quarter of R (the path tracer's mean has noise 100 / 8 = 12.5), and R's error, 1 / the
+// weights' sum, is removed from the others' bias: a cache of bias 2 measures 4 codes squared,
+// where R of noise weights alone measured the blur's 36 more. The photon map's own bias is its blur,
+// scaled to the render's narrower radii in the world (its pixels a quarter of the pilot's: 9).
+TEST(Auto, TheReferenceWeighsThePhotonMapsBlur) {
+    auto blur = [](size_t i) { return i % 2 ? 6.0 : -6.0; };
+    auto fixed = [](size_t) { return 2.0; };
+    AutoPilot progressive = twoCachePilot("progressivePhotonMap", blur, 1, 0, 0.1, 21);
+    progressive.firstCacheBatches = 0;  // one photon map per sample: no cache
+    std::vector<AutoPilot> pilots = {syntheticPilot("path", 0, 10, 0.1, 22), progressive,
+                                     twoCachePilot("irradianceCache", fixed, 2, 0.5, 0.1, 23)};
+    AutoChoice choice = predictFromPilots(pilots, kPilotPixels, 4.0 * kPilotPixels, 4.0);
+    // Its estimate's standard error: about sqrt(2 * 9.3^2 + 4 * 4 * 9.3) / sqrt(n) = 0.2; 4 sigma
+    // and the second-order terms of +-6 codes, 1.2.
+    EXPECT_NEAR(prediction(choice, "irradianceCache").bias, 4, 1.2);
+    EXPECT_NEAR(prediction(choice, "progressivePhotonMap").bias, 36.0 / 4, 2.5 / 4);
 }
 
 TEST(Auto, TheRendererResolvesAutoAndKeepsTheTimeLimit) {
