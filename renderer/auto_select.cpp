@@ -197,30 +197,28 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         const int batches = kAutoPilotBatches / caches;
         const double renderStart = steadySeconds(), slice = std::max(0.0, end - renderStart) / batches;
         int firstSample = 0;
-        if (c == 0) pilot.batchStarts.push_back(firstSample);
         size_t made = 0;
         for (int k = 0; k < batches; ++k) {
             std::vector<float> image;
-            double before = renderer.stats().renderSeconds;
+            const double before = renderer.stats().renderSeconds;
+            const int batchStart = firstSample;
             if (!renderBatch(renderer, firstSample, renderStart + (k + 1) * slice, end, cancel, image, firstSample))
                 break;
             batchSeconds.push_back(renderer.stats().renderSeconds - before);
             pilot.batches.push_back(std::move(image));
-            if (caches == 1) pilot.batchStarts.push_back(firstSample);
+            if (caches == 1) {  // the progressive photon map's sample indices, batch by batch
+                if (pilot.batchStarts.empty()) pilot.batchStarts.push_back(batchStart);
+                pilot.batchStarts.push_back(firstSample);
+            }
             ++made;
         }
         cacheBatches.push_back(made);
         if (made < 2) break;
     }
-    if (caches == 2) {
-        pilot.batchStarts.clear();
-        if (cacheBatches.size() == 2 && cacheBatches[1] >= 2) {
-            pilot.firstCacheBatches = int(cacheBatches[0]);
-        } else if (!cacheBatches.empty() && cacheBatches[0] >= 2) {
-            pilot.batches.resize(cacheBatches[0]);  // the second cache's lone batch, if any, goes
-        }
-    }
-    pilot.batchStarts.resize(caches == 1 ? pilot.batches.size() + 1 : 0);
+    if (caches == 2 && cacheBatches.size() == 2 && cacheBatches[1] >= 2)
+        pilot.firstCacheBatches = int(cacheBatches[0]);
+    else if (caches == 2 && !cacheBatches.empty())
+        pilot.batches.resize(cacheBatches[0]);  // the second cache's lone batch, if any, goes
     if (cancel && cancel->load()) return pilot;
     for (size_t k = 0; k < pilot.batches.size(); ++k) pilot.renderSeconds += batchSeconds[k];
     pilot.renderSeconds /= double(std::max<size_t>(1, pilot.batches.size()));
