@@ -1,6 +1,7 @@
 // Texture decoding: 8-bit images are kept as bytes and decoded through a table, float images as
 // floats; both must give UsdUVTexture's values (sRGB decode for 8-bit 'auto', linear for float).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <OpenImageIO/imageio.h>
 
@@ -17,7 +18,8 @@ float srgbDecode(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.
 
 template <typename T>
 std::string writeImage(const std::string& name, int channels, const std::vector<T>& pixels, OIIO::TypeDesc type) {
-    std::string path = (std::filesystem::temp_directory_path() / name).string();
+    // Per process: ctest runs tests side by side, and two that wrote one file raced.
+    std::string path = (std::filesystem::temp_directory_path() / (std::to_string(getpid()) + "_" + name)).string();
     auto out = OIIO::ImageOutput::create(path);
     EXPECT_TRUE(out);
     OIIO::ImageSpec spec(int(pixels.size() / channels), 1, channels, type);
