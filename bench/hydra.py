@@ -6,15 +6,20 @@ and the wall time of a converged render through UsdImagingGL (usdrecord's engine
 Hydra path (target: at most 1.10). Then, per scene, an interactive edit: the stage's first mesh
 moved three times in one session, with the scene build, the BVH primitives built and kept, and the
 times to the first new pixels and the first new pass after each move (the first move gathers what did not move into one
-static BVH; later moves build the moved mesh alone). Needs the OpenUSD build and the plugin
-(scripts/test-hydra.sh).
+static BVH; later moves build the moved mesh alone). With --usdview, also usdview itself (under
+xvfb-run, Mesa's software OpenGL): the viewport's size and, for the render it starts on opening each
+scene with Gi's defaults, the times to the first pixels and the first full pass, and how long the
+render before it ran (usdview resizes its viewport after its first draw, which restarts the render).
+Needs the OpenUSD build and the plugin (scripts/test-hydra.sh).
 
-    .venv/bin/python bench/hydra.py [--samples N] [--width W] [SCENE ...]
+    .venv/bin/python bench/hydra.py [--samples N] [--width W] [--usdview] [SCENE ...]
 """
 import argparse
 import json
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -32,6 +37,26 @@ def hydra(scene, width, integrator, samples, edit=""):
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
+def usdview_first_pass(scene):
+    """usdview opening SCENE with Gi and the render settings' camera: tests/hydra/scripts/usdview_first_pass.py."""
+    from pxr import Usd, UsdGeom  # usd-core's, only to find the camera's path
+    stage = Usd.Stage.Open(str(scene))
+    settings = stage.GetPrimAtPath(stage.GetMetadata("renderSettingsPrimPath") or "/")
+    cameras = settings.GetRelationship("camera").GetForwardedTargets() if settings.HasRelationship("camera") else []
+    camera = cameras[0] if cameras else next(p.GetPath() for p in stage.Traverse() if p.IsA(UsdGeom.Camera))
+    with tempfile.TemporaryDirectory() as out:
+        env = openusd_env()
+        env["GI_USDVIEW_OUT"] = out
+        testusdview = Path(env["PATH"].split(":")[0]) / "testusdview"
+        subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", str(testusdview), "--testScript",
+                        str(ROOT / "tests/hydra/scripts/usdview_first_pass.py"), "--renderer", "Gi", "--camera",
+                        str(camera), str(scene)], env=env, capture_output=True, text=True, timeout=900)
+        result = Path(out, "first_pass.json")
+        if not result.exists():
+            sys.exit(f"bench/hydra.py: usdview wrote no result for {scene}")
+        return json.loads(result.read_text())
+
+
 def cli(scene, width, height, integrator, samples):
     start = time.perf_counter()
     subprocess.run([str(ROOT / ".venv/bin/gi"), "render", str(scene), "--integrator", integrator, "--spp",
@@ -46,6 +71,7 @@ def main():
     parser.add_argument("--samples", type=int, default=64)
     parser.add_argument("--width", type=int, default=512)
     parser.add_argument("--integrator", default="path")
+    parser.add_argument("--usdview", action="store_true", help="also time usdview's first pass on each scene")
     args = parser.parse_args()
     if not available():
         sys.exit("bench/hydra.py: no OpenUSD build or no hdGi plugin (run scripts/test-hydra.sh first)")
@@ -67,6 +93,17 @@ def main():
                   f"{float(s.get('sceneBuildSeconds', 0)):8.3f} {int(s.get('primitivesBuilt', 0)):9,} "
                   f"{int(s.get('primitivesReused', 0)):9,} {float(s.get('firstPixelSeconds', 0)):9.3f} "
                   f"{float(s.get('firstPassSeconds', 0)):10.3f}")
+    if not args.usdview:
+        return
+    if not shutil.which("xvfb-run"):
+        sys.exit("bench/hydra.py --usdview: needs xvfb-run")
+    print(f"\n{'usdview opens the scene':28} {'viewport':>9} {'restarted s':>11} {'1st px s':>9} {'1st pass s':>10}")
+    for scene in args.scenes:
+        u = usdview_first_pass(ROOT / scene)
+        s = u["stats"]
+        print(f"{Path(scene).name:28} {'x'.join(map(str, u['viewport'])):>9} "
+              f"{u['restarted_render_seconds']:11.3f} {float(s.get('firstPixelSeconds', 0)):9.3f} "
+              f"{float(s.get('firstPassSeconds', 0)):10.3f}")
 
 
 if __name__ == "__main__":
