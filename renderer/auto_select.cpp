@@ -24,13 +24,23 @@ bool isConsistent(const std::string& integrator) {
     return integrator == "path" || integrator == "progressivePhotonMap";
 }
 
-// The per-pixel-value mean of images.
-std::vector<double> meanImage(const std::vector<std::vector<float>>& images) {
+// The per-pixel-value mean of images, weighted by their samples (`samples` empty: alike).
+std::vector<double> meanImage(const std::vector<std::vector<float>>& images, const std::vector<double>& samples = {}) {
     std::vector<double> mean(images.empty() ? 0 : images[0].size(), 0.0);
-    for (const auto& image : images)
-        for (size_t i = 0; i < mean.size(); ++i) mean[i] += image[i];
-    for (double& m : mean) m /= double(images.size());
+    double weightSum = 0;
+    for (size_t k = 0; k < images.size(); ++k) {
+        const double w = samples.size() == images.size() ? samples[k] : 1.0;
+        weightSum += w;
+        for (size_t i = 0; i < mean.size(); ++i) mean[i] += w * images[k][i];
+    }
+    for (double& m : mean) m /= weightSum > 0 ? weightSum : 1.0;
     return mean;
+}
+
+// A pilot's batch weights for meanImage: its batches' samples [first, end), if it counts them.
+std::vector<double> sampleWeights(const AutoPilot& pilot, size_t first, size_t end) {
+    if (pilot.batchSamples.size() != pilot.batches.size()) return {};
+    return std::vector<double>(pilot.batchSamples.begin() + long(first), pilot.batchSamples.begin() + long(end));
 }
 
 std::vector<double> srgbCodes(const std::vector<double>& linear) {
@@ -135,9 +145,10 @@ RenderSettings pilotSettings(const RenderSettings& settings, const std::string& 
 // The renderer's progressive passes from sample index `firstSample`: the first (one sample per
 // pixel) until `lastDeadline`, the others until `deadline`. The image, or false if some pixel has
 // no sample. `nextSample` is where the next batch starts: past every sample index this one used,
-// its last pass cut at the deadline included.
+// its last pass cut at the deadline included; `samples` its samples per pixel, that pass's
+// counted for the pixels it finished.
 bool renderBatch(Renderer& renderer, int firstSample, double deadline, double lastDeadline,
-                 const std::atomic<bool>* cancel, std::vector<float>& image, int& nextSample) {
+                 const std::atomic<bool>* cancel, std::vector<float>& image, int& nextSample, double& samples) {
     renderer.reset(firstSample);
     PassEnd end;
     do {
@@ -150,6 +161,11 @@ bool renderBatch(Renderer& renderer, int firstSample, double deadline, double la
     nextSample = firstSample + renderer.samplesTaken() +
                  (end == PassEnd::Deadline ? renderer.stats().partialPassSamples : 0);
     if (renderer.samplesTaken() == 0) return false;  // the first pass did not reach every pixel
+    samples = renderer.samplesTaken();
+    if (end == PassEnd::Deadline) {
+        const double pixels = double(renderer.film().width()) * renderer.film().height();
+        samples += double(renderer.stats().partialPassPixels) * renderer.stats().partialPassSamples / pixels;
+    }
     image = renderer.film().color();
     return true;
 }
@@ -183,45 +199,69 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
             pilot.refinesRecords = paramValue(info, ps.params, "refineRecords") != 0;
         }
     }
-    const int caches = isConsistent(integrator) ? 1 : 2;
+    int caches = isConsistent(integrator) ? 1 : 2;
     std::vector<double> batchSeconds;  // each batch's
     std::vector<size_t> cacheBatches;
+    double lastBatchesSeconds = 0, lastBatchesSamples = 0;  // the last batch of each cache's
+    double preprocessSeconds = 0;
+    int preprocesses = 0;
     for (int c = 0; c < caches; ++c) {
-        const double end = start + seconds * (c + 1) / caches;
+        double end = start + seconds * (c + 1) / caches;
         RenderSettings cs = ps;
         cs.seed = seed + uint32_t(c);  // the next technique's pilot starts 2 seeds on
         Renderer renderer(scene, cs, &camera);
         bool preprocessed = renderer.preprocess(cancel, end);
-        pilot.preprocessSeconds += renderer.stats().preprocessSeconds / caches;
+        preprocessSeconds += renderer.stats().preprocessSeconds;
+        ++preprocesses;
         if (!preprocessed) break;
-        const int batches = kAutoPilotBatches / caches;
-        const double renderStart = steadySeconds(), slice = std::max(0.0, end - renderStart) / batches;
+        int batches = kAutoPilotBatches / caches;
         int firstSample = 0;
         size_t made = 0;
         for (int k = 0; k < batches; ++k) {
             std::vector<float> image;
             const double before = renderer.stats().renderSeconds;
             const int batchStart = firstSample;
-            if (!renderBatch(renderer, firstSample, renderStart + (k + 1) * slice, end, cancel, image, firstSample))
+            double samples = 0;
+            const double now = steadySeconds();
+            // The first cache's first pass may run to the pilot's end (see below).
+            const double lastDeadline = caches == 2 && c == 0 && k == 0 ? start + seconds : end;
+            if (!renderBatch(renderer, firstSample, now + std::max(0.0, end - now) / (batches - k), lastDeadline,
+                             cancel, image, firstSample, samples))
                 break;
             batchSeconds.push_back(renderer.stats().renderSeconds - before);
+            pilot.batchSamples.push_back(samples);
             pilot.batches.push_back(std::move(image));
-            if (caches == 1) {  // the progressive photon map's sample indices, batch by batch
+            if (isConsistent(integrator)) {  // the progressive photon map's sample indices, batch by batch
                 if (pilot.batchStarts.empty()) pilot.batchStarts.push_back(batchStart);
                 pilot.batchStarts.push_back(firstSample);
             }
             ++made;
+            // Where two caches could not each make two batches (the first cache's preprocessing and
+            // two batches like its first would take over half the pilot: on Sponza at 37x28 a
+            // cache's first samples cost 6x its later ones), the first cache takes the whole
+            // pilot: one cache, whose own noise then counts as bias, is better than no pilot.
+            if (caches == 2 && c == 0 && k == 0 && 2 * (steadySeconds() - start + batchSeconds.back()) > seconds) {
+                caches = 1;
+                end = start + seconds;
+                batches = kAutoPilotBatches;
+            }
         }
         cacheBatches.push_back(made);
         if (made < 2) break;
+        lastBatchesSeconds += batchSeconds.back();
+        lastBatchesSamples += pilot.batchSamples.back();
     }
     if (caches == 2 && cacheBatches.size() == 2 && cacheBatches[1] >= 2)
         pilot.firstCacheBatches = int(cacheBatches[0]);
-    else if (caches == 2 && !cacheBatches.empty())
+    else if (caches == 2 && !cacheBatches.empty()) {
         pilot.batches.resize(cacheBatches[0]);  // the second cache's lone batch, if any, goes
+        pilot.batchSamples.resize(cacheBatches[0]);
+    }
+    pilot.preprocessSeconds = preprocessSeconds / std::max(1, preprocesses);
     if (cancel && cancel->load()) return pilot;
     for (size_t k = 0; k < pilot.batches.size(); ++k) pilot.renderSeconds += batchSeconds[k];
     pilot.renderSeconds /= double(std::max<size_t>(1, pilot.batches.size()));
+    if (lastBatchesSamples > 0) pilot.steadySecondsPerSample = lastBatchesSeconds / (lastBatchesSamples * width * height);
     pilot.complete = pilot.batches.size() >= 2;
     return pilot;
 }
@@ -308,6 +348,14 @@ double predictedNoise(const AutoPilot& pilot, double q) {
     // A batch's deviation is from the other batches of its cache (two caches differ by more).
     const size_t split = pilot.firstCacheBatches > 0 ? size_t(pilot.firstCacheBatches) : K;
     if (split < 2 || (split < K && K - split < 2)) return 0;
+    // Batches of unequal samples (time slices of a technique whose samples cost more at first)
+    // have unequal noise: each deviation is scaled to the batches' mean samples.
+    std::vector<double> sizeScale(K, 1.0);
+    if (pilot.batchSamples.size() == K) {
+        double mean = 0;
+        for (double samples : pilot.batchSamples) mean += samples / double(K);
+        for (size_t k = 0; k < K; ++k) sizeScale[k] = mean > 0 ? std::sqrt(pilot.batchSamples[k] / mean) : 1.0;
+    }
     std::vector<double> total(n, 0.0), firstTotal(n, 0.0);
     for (size_t k = 0; k < K; ++k)
         for (size_t i = 0; i < n; ++i) {
@@ -333,7 +381,7 @@ double predictedNoise(const AutoPilot& pilot, double q) {
                     double value = batches[k][i];
                     double center = (window - value) / double(size_t(count) * K - 1);
                     double deviation =
-                        std::sqrt((group - 1) / group) * (value - (groupTotal - value) / (group - 1));
+                        std::sqrt((group - 1) / group) * (value - (groupTotal - value) / (group - 1)) * sizeScale[k];
                     double e = srgbCode(center + q * deviation) - srgbCode(center);
                     pixel += e * e;
                 }
@@ -361,7 +409,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     constexpr double kMissSigmas = 4, kMissShare = 0.02;
     for (size_t k = 0; k < pilots.size(); ++k) {
         if (!pilots[k].complete) continue;
-        means[k] = meanImage(pilots[k].batches);
+        means[k] = meanImage(pilots[k].batches, sampleWeights(pilots[k], 0, pilots[k].batches.size()));
         meanNoise[k] = predictedNoise(pilots[k], 1.0 / double(pilots[k].batches.size()));
     }
     // R, the consistent pilots' inverse-variance mean, counts the progressive photon map's blur as
@@ -428,7 +476,9 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                 // cache's noise; the mean of both holds half of it.
                 const std::vector<std::vector<float>> first(pilot.batches.begin(), pilot.batches.begin() + long(split)),
                     second(pilot.batches.begin() + long(split), pilot.batches.end());
-                double difference = meanSquaredDifference(srgbCodes(meanImage(first)), srgbCodes(meanImage(second)));
+                double difference =
+                    meanSquaredDifference(srgbCodes(meanImage(first, sampleWeights(pilot, 0, split))),
+                                          srgbCodes(meanImage(second, sampleWeights(pilot, split, pilot.batches.size()))));
                 p.cacheNoise = std::max(0.0, (difference - predictedNoise(pilot, 1.0 / double(split)) -
                                               predictedNoise(pilot, 1.0 / double(second.size()))) / 2);
             }
@@ -445,8 +495,16 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             double finalPreprocess = std::min(kPreprocessShare * budgetSeconds,
                                               p.preprocessSeconds * pixels / pilotPixels);
             double finalSecondsPerPixel = std::max(budgetSeconds - finalPreprocess, 1e-3) / pixels;
-            double batchSecondsPerPixel = std::max(p.renderSeconds, 1e-6) / pilotPixels;
-            double ratio = std::min(1.0, batchSecondsPerPixel / finalSecondsPerPixel);
+            double ratio;  // one batch's samples over the render's
+            if (pilot.steadySecondsPerSample > 0 && pilot.batchSamples.size() == pilot.batches.size()) {
+                // In samples: the render's at the rate of the pilot's last batches.
+                double meanSamples = 0;
+                for (double samples : pilot.batchSamples) meanSamples += samples / batches;
+                ratio = std::min(1.0, meanSamples * pilot.steadySecondsPerSample / finalSecondsPerPixel);
+            } else {  // a pilot without sample counts: in time
+                double batchSecondsPerPixel = std::max(p.renderSeconds, 1e-6) / pilotPixels;
+                ratio = std::min(1.0, batchSecondsPerPixel / finalSecondsPerPixel);
+            }
             double biasShare = p.consistent ? std::min(1.0, batches * ratio) : 1.0, noiseShare = ratio;
             // A cache's own noise falls as its records gain paths with the camera's samples
             // (refineRecords), and a photon map's as its photons grow to the render's.

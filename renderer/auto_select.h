@@ -13,7 +13,8 @@
 // photon maps) preprocesses twice, with two seeds, and renders half its batches from each: the
 // two caches' difference is the cache's own noise, which shrinks in the render (records gain
 // paths with the camera's samples, photon maps have the render's photons); what both share is
-// bias, which no number of camera samples removes.
+// bias, which no number of camera samples removes. Where two caches cannot each make two batches
+// in the pilot's time, one cache takes all of it.
 //
 // The prediction is of the RMSE on 8-bit sRGB codes f (the thesis's metric), and its noise part is
 // made from linear batch values, because f compresses highlights: in a pilot of few samples a
@@ -46,9 +47,12 @@
 //               batch's deviation from its own cache's others); 0 with one cache
 //   bias   b2 = max(0, e - noise(1 / K) - c2 / 2)
 //   MSE(T) = b2 * min(1, K r) + noise(r) for the path tracer (a missed bright path is noise, not
-//            bias), where r is one batch's render seconds per pixel over the final render's (its
-//            budget less its preprocessing, the pilot's grown with the pixel count and at most
-//            kPreprocessShare of the budget);
+//            bias), where r is one batch's mean samples over the final render's: its budget
+//            (less its preprocessing, the pilot's grown with the pixel count and at most
+//            kPreprocessShare of the budget) at the rate of the pilot's last batches, past a
+//            cache's costlier start (batches are time slices, so their samples differ: the mean
+//            images weigh them by their samples, and noise(q) scales each batch's deviation to
+//            the mean batch's samples);
 //            b2 * (h(N) / h(n))^2 + noise(r g(N) / g(n)) for the progressive photon map (its b2
 //            its blur against the path tracer, scaled from the pilot's wider radii), n the
 //            pilot's samples and N = n / (K r) the render's, h and g the mean of s_i and 1 / s_i
@@ -135,6 +139,13 @@ struct AutoPilot {
     // Two caches (records or photon maps, two seeds): batches [0, firstCacheBatches) used the
     // first, the others the second; 0: one cache (or none).
     int firstCacheBatches = 0;
+    // Each batch's samples per pixel (a pass the deadline cut counts with the pixels it
+    // finished), and the seconds a pixel's sample took in the last batch of each cache, past
+    // the cache's start-up (records made where pixels first need them, a first refinement
+    // round: on Sponza at 37x28 an irradiance cache's first 16 samples took 16 us each, its
+    // later ones 2.8 us, as at 160x120). Empty and 0 in synthetic pilots, which scale by time.
+    std::vector<double> batchSamples;
+    double steadySecondsPerSample = 0;
     double photonShare = 0;       // its photon map's photons over the render's (0: no photon map)
     bool records = false;         // irradiance records...
     bool refinesRecords = false;  // ... refined between passes by as many paths as the camera traced

@@ -253,6 +253,33 @@ TEST(Auto, TheReferenceWeighsThePhotonMapsBlur) {
     EXPECT_NEAR(prediction(choice, "progressivePhotonMap").bias, 36.0 / 4, 2.5 / 4);
 }
 
+// A cache whose first samples cost more (records made where pixels first need them): its
+// pilot's time slices hold 1, 2 and then 4 samples per pixel (mean 3.375), of noise 64 / s codes
+// squared each, and its batches took 0.5 s on average, while its last batch ran at 0.01 s a sample.
+// The render (4x the pixels in 4 s, 1 s per pilot image's worth of pixels) takes 100 samples at
+// that rate: noise 64 / 100 = 0.64, the ratio 3.375 / 100. From the mean batch time the ratio
+// would be 0.5 (noise 9.5). The unequal batches' mean is weighted by their samples (variance
+// 64 / 27), which noise(1 / K) of batches scaled to the mean's samples removes: its bias, 0,
+// within 4 sigma of the estimate (sqrt(2 * 2.4^2 / n) = 0.04).
+TEST(Auto, CountsSamplesAtTheRateOfThePilotsLastBatches) {
+    const std::vector<double> samples = {1, 2, 4, 4, 4, 4, 4, 4};
+    std::mt19937 rng(31);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    AutoPilot cache = syntheticPilot("irradianceCache", 0, 0, 0.5, 31);
+    for (size_t k = 0; k < cache.batches.size(); ++k)
+        for (float& v : cache.batches[k])
+            v = float(linearOf(kTruth) + 8 / std::sqrt(samples[k]) / slopeAt(kTruth) * gauss(rng));
+    cache.batchSamples = samples;
+    cache.steadySecondsPerSample = 0.01 / kPilotPixels;
+    AutoChoice choice = predictFromPilots({syntheticPilot("path", 0, 0.5, 0.1, 32), cache}, kPilotPixels,
+                                          4.0 * kPilotPixels, 4.0);
+    const AutoPrediction& p = prediction(choice, "irradianceCache");
+    EXPECT_NEAR(p.noise, 64 / 3.375, 0.05 * 64 / 3.375);  // one batch of the mean's samples
+    EXPECT_LT(p.bias, 0.16);
+    EXPECT_NEAR(p.predictedRmse * p.predictedRmse, p.bias + predictedNoise(cache, 3.375 / 100), 1e-9);
+    EXPECT_NEAR(predictedNoise(cache, 3.375 / 100), 0.64, 0.05);
+}
+
 TEST(Auto, TheRendererResolvesAutoAndKeepsTheTimeLimit) {
     Scene scene;
     int m = scene.addMaterial(lambert(Color(0.5f), Color(0.5f)));
