@@ -200,7 +200,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         }
     }
     int caches = isConsistent(integrator) ? 1 : 2;
-    std::vector<double> batchSeconds;  // each batch's
+    double batchSeconds = 0;  // the latest batch's
     std::vector<size_t> cacheBatches;
     double lastBatchesSeconds = 0, lastBatchesSamples = 0;  // the last batch of each cache's
     double preprocessSeconds = 0;
@@ -228,7 +228,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
             if (!renderBatch(renderer, firstSample, now + std::max(0.0, end - now) / (batches - k), lastDeadline,
                              cancel, image, firstSample, samples))
                 break;
-            batchSeconds.push_back(renderer.stats().renderSeconds - before);
+            batchSeconds = renderer.stats().renderSeconds - before;
             pilot.batchSamples.push_back(samples);
             pilot.batches.push_back(std::move(image));
             if (isConsistent(integrator)) {  // the progressive photon map's sample indices, batch by batch
@@ -240,7 +240,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
             // two batches like its first would take over half the pilot: on Sponza at 37x28 a
             // cache's first samples cost 6x its later ones), the first cache takes the whole
             // pilot: one cache, whose own noise then counts as bias, is better than no pilot.
-            if (caches == 2 && c == 0 && k == 0 && 2 * (steadySeconds() - start + batchSeconds.back()) > seconds) {
+            if (caches == 2 && c == 0 && k == 0 && 2 * (steadySeconds() - start + batchSeconds) > seconds) {
                 caches = 1;
                 end = start + seconds;
                 batches = kAutoPilotBatches;
@@ -248,7 +248,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         }
         cacheBatches.push_back(made);
         if (made < 2) break;
-        lastBatchesSeconds += batchSeconds.back();
+        lastBatchesSeconds += batchSeconds;
         lastBatchesSamples += pilot.batchSamples.back();
     }
     if (caches == 2 && cacheBatches.size() == 2 && cacheBatches[1] >= 2)
@@ -259,8 +259,6 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
     }
     pilot.preprocessSeconds = preprocessSeconds / std::max(1, preprocesses);
     if (cancel && cancel->load()) return pilot;
-    for (size_t k = 0; k < pilot.batches.size(); ++k) pilot.renderSeconds += batchSeconds[k];
-    pilot.renderSeconds /= double(std::max<size_t>(1, pilot.batches.size()));
     if (lastBatchesSamples > 0) pilot.steadySecondsPerSample = lastBatchesSeconds / (lastBatchesSamples * width * height);
     pilot.complete = pilot.batches.size() >= 2;
     return pilot;
@@ -463,7 +461,6 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
         p.complete = pilots[k].complete && compared;
         p.batches = int(pilots[k].batches.size());
         p.pilotSeconds = pilots[k].seconds;
-        p.renderSeconds = pilots[k].renderSeconds;
         p.preprocessSeconds = pilots[k].preprocessSeconds;
         if (p.complete) {
             const double batches = double(pilots[k].batches.size());
@@ -495,16 +492,10 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             double finalPreprocess = std::min(kPreprocessShare * budgetSeconds,
                                               p.preprocessSeconds * pixels / pilotPixels);
             double finalSecondsPerPixel = std::max(budgetSeconds - finalPreprocess, 1e-3) / pixels;
-            double ratio;  // one batch's samples over the render's
-            if (pilot.steadySecondsPerSample > 0 && pilot.batchSamples.size() == pilot.batches.size()) {
-                // In samples: the render's at the rate of the pilot's last batches.
-                double meanSamples = 0;
-                for (double samples : pilot.batchSamples) meanSamples += samples / batches;
-                ratio = std::min(1.0, meanSamples * pilot.steadySecondsPerSample / finalSecondsPerPixel);
-            } else {  // a pilot without sample counts: in time
-                double batchSecondsPerPixel = std::max(p.renderSeconds, 1e-6) / pilotPixels;
-                ratio = std::min(1.0, batchSecondsPerPixel / finalSecondsPerPixel);
-            }
+            // One batch's samples over the render's, those at the rate of the pilot's last batches.
+            double meanSamples = 0;
+            for (double samples : pilot.batchSamples) meanSamples += samples / batches;
+            double ratio = std::min(1.0, meanSamples * pilot.steadySecondsPerSample / finalSecondsPerPixel);
             double biasShare = p.consistent ? std::min(1.0, batches * ratio) : 1.0, noiseShare = ratio;
             // A cache's own noise falls as its records gain paths with the camera's samples
             // (refineRecords), and a photon map's as its photons grow to the render's.

@@ -106,7 +106,7 @@ struct AutoPrediction {
     bool complete = false;        // its pilot rendered at least two whole batches in its time
     int batches = 0;              // the batches it rendered
     double pilotSeconds = 0;      // its share of the pilot time
-    double renderSeconds = 0, preprocessSeconds = 0;  // of one batch; of the pilot
+    double preprocessSeconds = 0;  // of the pilot
     double noise = 0, bias = 0;   // noise(1) (one batch's) and b2 above, sRGB codes squared
     double cacheNoise = 0;        // c2 above: one cache's noise, sRGB codes squared
     double predictedRmse = 0;     // sqrt of the predicted MSE at the budget, sRGB codes
@@ -128,7 +128,6 @@ struct AutoPilot {
     int width = 0, height = 0;
     std::vector<std::vector<float>> batches;  // each width * height * 3
     double seconds = 0;            // its share of the pilot time
-    double renderSeconds = 0;      // of one batch (their mean)
     double preprocessSeconds = 0;  // of the pilot's preprocessing (shared by its batches)
     bool complete = false;         // at least two batches
     // Batch k used sample indices [batchStarts[k], batchStarts[k + 1]) (one entry more than
@@ -143,7 +142,7 @@ struct AutoPilot {
     // finished), and the seconds a pixel's sample took in the last batch of each cache, past
     // the cache's start-up (records made where pixels first need them, a first refinement
     // round: on Sponza at 37x28 an irradiance cache's first 16 samples took 16 us each, its
-    // later ones 2.8 us, as at 160x120). Empty and 0 in synthetic pilots, which scale by time.
+    // later ones 2.8 us, as at 160x120).
     std::vector<double> batchSamples;
     double steadySecondsPerSample = 0;
     double photonShare = 0;       // its photon map's photons over the render's (0: no photon map)

@@ -47,7 +47,8 @@ AutoPilot syntheticPilot(const std::string& integrator, double bias, double sigm
         batch.resize(kPilotPixels * 3);
         for (float& v : batch) v = float(linearOf(kTruth + bias) + noise(rng));
     }
-    pilot.renderSeconds = seconds;
+    pilot.batchSamples.assign(kAutoPilotBatches, 1.0);  // one sample per pixel in `seconds`
+    pilot.steadySecondsPerSample = seconds / kPilotPixels;
     pilot.complete = true;
     return pilot;
 }
@@ -255,10 +256,9 @@ TEST(Auto, TheReferenceWeighsThePhotonMapsBlur) {
 
 // A cache whose first samples cost more (records made where pixels first need them): its
 // pilot's time slices hold 1, 2 and then 4 samples per pixel (mean 3.375), of noise 64 / s codes
-// squared each, and its batches took 0.5 s on average, while its last batch ran at 0.01 s a sample.
+// squared each, and its last batch ran at 0.01 s a sample (its first took far longer).
 // The render (4x the pixels in 4 s, 1 s per pilot image's worth of pixels) takes 100 samples at
-// that rate: noise 64 / 100 = 0.64, the ratio 3.375 / 100. From the mean batch time the ratio
-// would be 0.5 (noise 9.5). The unequal batches' mean is weighted by their samples (variance
+// that rate: noise 64 / 100 = 0.64, the ratio 3.375 / 100. The unequal batches' mean is weighted by their samples (variance
 // 64 / 27), which noise(1 / K) of batches scaled to the mean's samples removes: its bias, 0,
 // within 4 sigma of the estimate (sqrt(2 * 2.4^2 / n) = 0.04).
 TEST(Auto, CountsSamplesAtTheRateOfThePilotsLastBatches) {

@@ -2,6 +2,9 @@
 with Gi (its default settings, the camera named on the command line), left alone until its first
 full pass is in. Writes GI_USDVIEW_OUT/first_pass.json: the viewport's size and hdGi's render stats
 at that moment (scene build, first pixels and first pass, each in seconds from the render's start).
+usdview resizes its viewport after its first draw, which restarts the render (the scene is kept):
+the stats when the script starts are that first render's, published when it stopped, and its
+seconds are given as "restarted_render_seconds".
     testusdview --testScript usdview_first_pass.py --renderer Gi --camera CAMERA SCENE"""
 import json
 import os
