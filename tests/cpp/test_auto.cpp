@@ -258,9 +258,9 @@ TEST(Auto, TheReferenceWeighsThePhotonMapsBlur) {
 // pilot's time slices hold 1, 2 and then 4 samples per pixel (mean 3.375), of noise 64 / s codes
 // squared each, and its last batch ran at 0.01 s a sample (its first took far longer).
 // The render (4x the pixels in 4 s, 1 s per pilot image's worth of pixels) takes 100 samples at
-// that rate: noise 64 / 100 = 0.64, the ratio 3.375 / 100. The unequal batches' mean is weighted by their samples (variance
-// 64 / 27), which noise(1 / K) of batches scaled to the mean's samples removes: its bias, 0,
-// within 4 sigma of the estimate (sqrt(2 * 2.4^2 / n) = 0.04).
+// that rate: noise 64 / 100 = 0.64, the ratio 3.375 / 100. The unequal batches' mean is weighted
+// by their samples (variance 64 / 27), which noise(1 / K) of batches scaled to the mean's samples
+// removes: its bias, 0, within 4 sigma of the estimate (sqrt(2 * 2.4^2 / n) = 0.04).
 TEST(Auto, CountsSamplesAtTheRateOfThePilotsLastBatches) {
     const std::vector<double> samples = {1, 2, 4, 4, 4, 4, 4, 4};
     std::mt19937 rng(31);
