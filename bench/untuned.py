@@ -13,9 +13,17 @@ and the records or photons. Figures are from one run on a shared machine: compar
 
     .venv/bin/python bench/untuned.py [--scenes room,room-sky,sponza,sibenik,sibenik-portals] [--resolution 128 96]
         [--seconds 5] [--reference-seconds 120] [--integrators path,irradianceCache,...]
-    (an integrator may carry parameters: photonMapFinalGather:gatherBounces=0; separate those with ';')
+    (an integrator may carry parameters: photonMapFinalGather:gatherBounces=0; separate those with ';';
+    a scene may also be a USD file's path, rendered against the path tracer)
+
+The McGuire Cornell boxes (box-water, box-sphere, box-mirror) are ../shared/assets/cornell's OBJ
+variants, imported by `gi import` into a temporary folder as a user would, with the camera
+`gi render` frames the scene with: a glossy near-mirror ball (roughness 0.21), a rough glass ball
+(opacity 0.9), rough water, and a two-sided emitting panel 1 cm under the ceiling. Nobody tuned
+gi on them; their references are the path tracer's.
 """
 import argparse
+import tempfile
 import time
 from pathlib import Path
 
@@ -29,6 +37,8 @@ SCENES = {"cornell": (ROOT / "scenes/cornell/cornell.usda", False),
           "sponza": (ROOT / "scenes/sponza/sponza.usda", False),
           "sibenik": (ROOT / "scenes/sibenik/sibenik_sky.usda", True),
           "sibenik-portals": (ROOT / "scenes/sibenik/sibenik_sky_portals.usda", True)}
+IMPORTED = {"box-water": "CornellBox-Water.obj", "box-sphere": "CornellBox-Sphere.obj",
+            "box-mirror": "CornellBox-Mirror.obj"}
 TECHNIQUES = ["path", "irradianceCache", "adaptiveIrradianceCache", "photonMapIrradianceCache",
               "photonMapFinalGather", "progressivePhotonMap"]
 COUNTS = ["records", "globalMapPhotons", "causticMapPhotons", "photonsStored"]
@@ -47,6 +57,18 @@ def render(loaded, integrator, resolution, spp, seconds, seed=1):
     return np.asarray(result.color), result.stats, time.perf_counter() - start
 
 
+def scene_path(name, folder):
+    """(USD path, whether the sun is seen through glass) of a scene name or a USD file's path."""
+    if name in SCENES:
+        return SCENES[name]
+    if name in IMPORTED:
+        from gi.importer import import_file
+        output = Path(folder) / f"{name}.usda"
+        import_file(f"cornell/{IMPORTED[name]}", output, absolute_paths=True)
+        return output, False
+    return Path(name), False
+
+
 def main():
     from gi import metrics
     from gi.loader import load_stage
@@ -59,8 +81,9 @@ def main():
     parser.add_argument("--integrators", default=",".join(TECHNIQUES))
     args = parser.parse_args()
     resolution = tuple(args.resolution)
+    folder = tempfile.TemporaryDirectory(prefix="gi-untuned-")
     for name in args.scenes.split(","):
-        path, glass = SCENES[name]
+        path, glass = scene_path(name, folder.name)
         loaded = load_stage(str(path))
         ref_integrator = args.glass_reference if glass else "path"
         reference, ref_stats, ref_wall = render(loaded, ref_integrator, resolution, 1 << 24, args.reference_seconds,

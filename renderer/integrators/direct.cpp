@@ -14,15 +14,19 @@ Color DirectIntegrator::Li(const Ray& ray, const Scene& scene, Sampler& sampler,
 }
 
 Color DirectIntegrator::trace(const Ray& cameraOrBranch, const Scene& scene, Sampler& sampler, RayStats& stats,
-                              SampleAovs* aovs, int specularDepth, bool cameraRay, bool firstHitEmits) const {
+                              SampleAovs* aovs, int specularDepth, bool cameraRay, BranchEmitters first,
+                              BranchEmitters later) const {
     Ray ray = cameraOrBranch;
     Color L(0.0f), weight(1.0f);
-    for (;; ++specularDepth, cameraRay = false, aovs = nullptr, firstHitEmits = true) {
+    BranchEmitters emitters = first;
+    for (;; ++specularDepth, cameraRay = false, aovs = nullptr, emitters = later) {
         Intersection hit = intersectVisible(scene, ray, sampler, stats, cameraRay);
         // Only camera rays and specular branches get here, so emitters count in full (no MIS).
-        if (hit.kind == Intersection::Kind::None)
-            return firstHitEmits ? L + weight * escapedRadiance(scene, ray, 0, true, cameraRay) : L;
-        if (firstHitEmits) L += weight * emittedOnHit(scene, hit, ray, ray.o, 0, true);
+        if (hit.kind == Intersection::Kind::None) {
+            if (emitters == BranchEmitters::All) return L + weight * escapedRadiance(scene, ray, 0, true, cameraRay);
+            return emitters == BranchEmitters::DomesOnly ? L + weight * domeRadiance(scene, ray) : L;
+        }
+        if (emitters == BranchEmitters::All) L += weight * emittedOnHit(scene, hit, ray, ray.o, 0, true);
         if (hit.kind == Intersection::Kind::Light) return L;
         ShadingPoint sp = makeShadingPoint(hit.si, -ray.d);
         recordAovs(aovs, sp, hit.t);
@@ -38,7 +42,8 @@ Color DirectIntegrator::trace(const Ray& cameraOrBranch, const Scene& scene, Sam
         if (specularDepth < kSplitDepth) {  // every branch (specular_chain.h)
             for (int i = 0; i < n; ++i) {
                 Ray next = spawnRay(sp.si, sp.frame.toWorld(branches[i].wi));
-                L += weight * branches[i].weight * trace(next, scene, sampler, stats, nullptr, specularDepth + 1, false);
+                L += weight * branches[i].weight *
+                     trace(next, scene, sampler, stats, nullptr, specularDepth + 1, false, later, later);
             }
             return L;
         }
@@ -61,7 +66,8 @@ Color DirectIntegrator::glossyIndirect(const Scene& scene, const ShadingPoint& s
     float survive = std::min(1.0f, maxComponent(weight));
     if (!(survive > 0) || !isFinite(weight) || uSurvive >= survive) return Color(0.0f);
     Ray next = spawnRay(sp.si, sp.frame.toWorld(s.wi));
-    return weight / survive * trace(next, scene, sampler, stats, nullptr, specularDepth + 1, false, false);
+    return weight / survive *
+           trace(next, scene, sampler, stats, nullptr, specularDepth + 1, false, BranchEmitters::None, glossyBranchEmitters_);
 }
 
 }  // namespace gi

@@ -11,6 +11,9 @@
 
 namespace gi {
 
+// Which emitters a ray counts where it reaches them.
+enum class BranchEmitters { All, DomesOnly, None };
+
 class DirectIntegrator : public Integrator {
 public:
     DirectIntegrator(int rayDepth, int lightSamples);
@@ -19,10 +22,12 @@ public:
 protected:
     // Indirect light reflected at a non-specular shading point (e.g. from an irradiance cache).
     virtual Color indirect(const Scene&, const ShadingPoint&, Sampler&, RayStats&) const { return Color(0.0f); }
-    // firstHitEmits: whether emitters reached by the ray itself count (not for a glossy ray,
-    // whose lights the light sampling at its origin counted already).
+    // first: the emitters the ray itself counts where it reaches them (none for a glossy ray,
+    // whose lights the light sampling at its origin counted already); later: those its specular
+    // branches count.
     Color trace(const Ray& ray, const Scene& scene, Sampler& sampler, RayStats& stats, SampleAovs* aovs,
-                int specularDepth, bool cameraRay, bool firstHitEmits = true) const;
+                int specularDepth, bool cameraRay, BranchEmitters first = BranchEmitters::All,
+                BranchEmitters later = BranchEmitters::All) const;
     // The light that sp's glossy lobes (rough specular, clearcoat, rough glass: Bsdf::hasGlossy)
     // reflect from other surfaces, for integrators whose indirect() covers only the Lambertian
     // lobe: one ray sampled from the BSDF, weighted by its lobes other than the Lambertian one,
@@ -32,6 +37,10 @@ protected:
 
     int rayDepth_, lightSamples_;
     bool tracesGlossy_ = false;  // glossyIndirect at every non-specular hit
+    // The emitters a glossy ray counts through specular surfaces (L S+ G E): those the
+    // integrator's photon estimates at the glossy point leave out (a caustic map read through
+    // the whole BSDF there has them: counted again, they were counted twice).
+    BranchEmitters glossyBranchEmitters_ = BranchEmitters::All;
 };
 
 }  // namespace gi

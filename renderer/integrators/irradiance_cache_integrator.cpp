@@ -41,6 +41,7 @@ void IrradianceCacheIntegrator::beginPreprocess(const PreprocessContext& context
 void IrradianceCacheIntegrator::buildCausticMap(const PreprocessContext& context) {
     maps_ = PhotonMaps();
     recordSampler_.readCaustics(CausticPhotons());
+    glossyBranchEmitters_ = BranchEmitters::All;
     const Scene& scene = context.scene;
     // Left out where nothing can focus light, and under domes alone (the map leaves them out).
     bool focusedLight = false;
@@ -57,9 +58,11 @@ void IrradianceCacheIntegrator::buildCausticMap(const PreprocessContext& context
     photons.globalKeepsDirectAndCaustic = false;
     photons.causticMapLeavesOutDomes = true;  // the records' paths carry the sky through glass
     buildPhotonMaps(context, photons, maps_);
-    if (!maps_.caustic.empty())
+    if (!maps_.caustic.empty()) {
         recordSampler_.readCaustics(CausticPhotons{&maps_.caustic, settings_.gatherPhotons, maps_.causticRadius,
                                                    kCausticConeFilter, kRecordCausticShare});
+        glossyBranchEmitters_ = BranchEmitters::DomesOnly;  // the map, read through the whole BSDF, has the rest
+    }
 }
 
 Ray IrradianceCacheIntegrator::pixelCentreRay(const PreprocessContext& context, uint32_t pixel,

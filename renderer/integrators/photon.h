@@ -54,11 +54,15 @@ struct Photon {
     uint32_t normal;     // octahedral: the surface normal on the side the photon arrived at
     uint32_t direction;  // octahedral: unit direction towards where the photon came from
     uint32_t surface;    // photonSurface() of where it landed
+    // Whether it came from its light through specular surfaces alone (L S+): light that a ray
+    // traced from a glossy lobe finds only by chance, so such an integrator reads these photons
+    // through the glossy lobes as well (PhotonMap::radianceBesideGlossyRays).
+    uint32_t caustic = 0;
 
     Vec3 n() const { return octahedral::decode(normal); }
     Vec3 wi() const { return octahedral::decode(direction); }
 };
-static_assert(sizeof(Photon) == 36);
+static_assert(sizeof(Photon) == 40);
 
 // Tells surfaces apart for the photon map's visibility guard: the shape, or for instanced
 // geometry the instance.

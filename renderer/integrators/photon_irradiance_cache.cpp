@@ -109,6 +109,9 @@ void PhotonMapIrradianceCacheIntegrator::preprocess(const PreprocessContext& con
         context.scene.warn("photonMapIrradianceCache: the global photon map is empty, so every irradiance record "
                            "is path traced");
     CausticPhotons caustics;
+    // The caustic map, read through the whole BSDF at a glossy point, has what its glossy rays
+    // would find through specular surfaces, but the domes.
+    glossyBranchEmitters_ = maps_.caustic.empty() ? BranchEmitters::All : BranchEmitters::DomesOnly;
     if (!maps_.caustic.empty())
         caustics = CausticPhotons{&maps_.caustic, settings_.photons.gatherPhotons, maps_.causticRadius,
                                   kCausticConeFilter,

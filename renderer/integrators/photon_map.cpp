@@ -98,6 +98,18 @@ PhotonEstimate PhotonMap::radiance(const ShadingPoint& sp, const Scene& scene, i
     }, coneFilter);
 }
 
+PhotonEstimate PhotonMap::radianceBesideGlossyRays(const ShadingPoint& sp, const Scene& scene, int k,
+                                                   float maxRadius) const {
+    if (!sp.bsdf.hasGlossy()) return radiance(sp, scene, k, maxRadius);
+    const Color lambertian = sp.bsdf.diffuseLobe(sp.woLocal);
+    return estimate(PhotonLookup::at(sp, scene), k, maxRadius, [&](const Photon& photon) {
+        if (!photon.caustic) return lambertian * photon.power;
+        Vec3 wi = sp.frame.toLocal(photon.wi());
+        if (sp.woLocal.z * wi.z < 0) wi.z = -wi.z;  // as in radiance()
+        return sp.bsdf.eval(sp.woLocal, wi) * photon.power;
+    });
+}
+
 bool PhotonMap::nearest(const PhotonLookup& at, float maxRadius, Photon* found) const {
     std::vector<Neighbour> candidates;
     candidates.reserve(kNearestCandidates);

@@ -122,6 +122,12 @@ public:
     // caustics: sharper edges, less of a halo), normalised so a uniform density reads the same.
     PhotonEstimate radiance(const ShadingPoint& sp, const Scene& scene, int k, float maxRadius,
                             float coneFilter = 0) const;
+    // The same for an integrator that traces sp's glossy lobes itself (DirectIntegrator's
+    // glossyIndirect): photons are read through the Lambertian lobe alone, except those that came
+    // through specular surfaces alone (Photon::caustic), which its glossy rays do not count. A
+    // density estimate through a sharp lobe has few photons in it: a near-mirror ball (roughness
+    // 0.21) reflected the room as blotches. Without glossy lobes, radiance() itself.
+    PhotonEstimate radianceBesideGlossyRays(const ShadingPoint& sp, const Scene& scene, int k, float maxRadius) const;
     // The nearest photon around the lookup that passes all three guards, among the
     // kNearestCandidates nearest; false if none does within maxRadius. (For maps of
     // precomputed irradiance, which keep it in `power`.)

@@ -43,6 +43,7 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
             photon.normal = octahedral::encode(recordNormal(sp));
             photon.direction = octahedral::encode(-ray.d);
             photon.surface = photonSurface(sp.si.shapeId, sp.si.instanceId);
+            photon.caustic = path == PhotonPath::Caustic;
             land(photon, path, light);
         }
         if (depthLimitReached(bounces, settings.maxBounces, stats)) return light;

@@ -19,7 +19,13 @@ using Clock = std::chrono::steady_clock;
 }  // namespace
 
 ProgressivePhotonMapIntegrator::ProgressivePhotonMapIntegrator(const ProgressivePhotonMapSettings& settings)
-    : DirectIntegrator(settings.rayDepth, settings.lightSamples), settings_(settings) {}
+    : DirectIntegrator(settings.rayDepth, settings.lightSamples), settings_(settings) {
+    // Glossy lobes are traced (a density estimate through a sharp lobe is blotches); every
+    // photon that came through specular surfaces is in the maps, domes' too, so glossy rays
+    // count no emitter they reach through them (radianceBesideGlossyRays reads those photons).
+    tracesGlossy_ = true;
+    glossyBranchEmitters_ = BranchEmitters::None;
+}
 
 float ProgressivePhotonMapIntegrator::radiusScale(uint32_t sampleIndex, float alpha) {
     // prod_{k=1}^{i-1} (k + alpha) / (k + 1) = Gamma(i + alpha) / (Gamma(1 + alpha) Gamma(i + 1)).
@@ -80,7 +86,7 @@ Color ProgressivePhotonMapIntegrator::indirect(const Scene& scene, const Shading
     if (iteration >= maps_.size() || maps_[iteration].empty()) return Color(0.0f);
     float radius = settings_.initialRadius * footprint_.at(sp.si.p) * radiusScales_[iteration];
     lookups_.fetch_add(1, std::memory_order_relaxed);
-    PhotonEstimate e = maps_[iteration].radiance(sp, scene, kMaxLookupPhotons, radius);
+    PhotonEstimate e = maps_[iteration].radianceBesideGlossyRays(sp, scene, kMaxLookupPhotons, radius);
     photonsFound_.fetch_add(uint64_t(e.photons), std::memory_order_relaxed);
     return overSurfaceInDisc(e, kMaxLookupPhotons, PhotonLookup::at(sp, scene), sampler, stats);
 }
