@@ -107,7 +107,12 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
         }
         if (settings_.gatherDirectLight && sp.bsdf.hasNonDelta())
             L += weight * sampleDirectLight(scene, sp, sampler, stats, false);
-        Color reflectance = sp.bsdf.diffuseReflectance();
+        // The map's irradiance is reflected by the Lambertian lobe; a glossy lobe's share (a
+        // near-mirror's, nearly all of it) is traced on below. Without the shadow ray the map
+        // holds the direct light too, which the traced lobe would miss: the thesis's set-up reads
+        // the Lambertian reflectance alone, as it did.
+        const bool traceGlossy = settings_.gatherDirectLight && sp.bsdf.hasGlossy();
+        Color reflectance = traceGlossy ? sp.bsdf.diffuseLobe(sp.woLocal) * kPi : sp.bsdf.diffuseReflectance();
         if (!isBlack(reflectance)) {
             PhotonLookup at = PhotonLookup::at(sp, scene);
             Photon nearest;
@@ -127,6 +132,28 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
         // Continue through one specular branch, picked in proportion to its weight.
         BsdfSample branches[3];
         int n = sp.bsdf.deltaBranches(sp.woLocal, branches);
+        if (n == 0 && traceGlossy) {
+            // The glossy lobes' light from other surfaces: a ray sampled from the BSDF, weighted by
+            // its lobes but the Lambertian one (as DirectIntegrator::glossyIndirect), with Russian
+            // roulette on that weight; its next hit reads the map in turn. Emitters it reaches
+            // were the shadow ray's (through specular surfaces: the map's caustics).
+            if (depthLimitReached(vertex, settings_.finalGatherDepth, stats)) return L;
+            float uLobe = sampler.get1D();
+            Vec2 u = sampler.get2D();
+            float uSurvive = sampler.get1D();
+            BsdfSample bs = sp.bsdf.sample(sp.woLocal, uLobe, u);
+            if (!bs.valid || bs.delta || !(bs.pdf > 0)) return L;
+            Color f = sp.bsdf.eval(sp.woLocal, bs.wi);
+            if (bs.wi.z > 0) f = f - sp.bsdf.diffuseLobe(sp.woLocal);
+            Color w = vmax(f, Color(0.0f)) * (std::abs(bs.wi.z) / bs.pdf);
+            float survive = std::min(1.0f, maxComponent(w));
+            if (!(survive > 0) || !isFinite(w) || uSurvive >= survive) return L;
+            weight *= w / survive;
+            countsEmitters = false;
+            afterSpecular = false;
+            ray = spawnRay(sp.si, sp.frame.toWorld(bs.wi));
+            continue;
+        }
         if (n == 0 || depthLimitReached(vertex, settings_.finalGatherDepth, stats)) return L;
         if (!followDeltaBranch(sp, branches, n, sampler.get1D(), weight, ray)) return L;
         countsEmitters = false;
