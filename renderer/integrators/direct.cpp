@@ -57,17 +57,26 @@ Color DirectIntegrator::glossyIndirect(const Scene& scene, const ShadingPoint& s
     Vec2 u = sampler.get2D();
     float uSurvive = sampler.get1D();
     if (depthLimitReached(specularDepth, rayDepth_, stats)) return Color(0.0f);
+    Vec3 wi;
+    Color weight;
+    if (!sampleGlossyBranch(sp, uLobe, u, uSurvive, &wi, &weight)) return Color(0.0f);
+    return weight * trace(spawnRay(sp.si, wi), scene, sampler, stats, nullptr, specularDepth + 1, false,
+                          BranchEmitters::None, glossyBranchEmitters_);
+}
+
+bool DirectIntegrator::sampleGlossyBranch(const ShadingPoint& sp, float uLobe, Vec2 u, float uSurvive, Vec3* wi,
+                                          Color* weight) {
     BsdfSample s = sp.bsdf.sample(sp.woLocal, uLobe, u);
-    if (!s.valid || s.delta || !(s.pdf > 0)) return Color(0.0f);  // delta lobes are the branches'
+    if (!s.valid || s.delta || !(s.pdf > 0)) return false;  // delta lobes are the branches'
     // The sampled direction's f without the Lambertian lobe, which indirect() covers.
     Color f = sp.bsdf.eval(sp.woLocal, s.wi);
     if (s.wi.z > 0) f = f - sp.bsdf.diffuseLobe(sp.woLocal);
-    Color weight = vmax(f, Color(0.0f)) * (std::abs(s.wi.z) / s.pdf);
-    float survive = std::min(1.0f, maxComponent(weight));
-    if (!(survive > 0) || !isFinite(weight) || uSurvive >= survive) return Color(0.0f);
-    Ray next = spawnRay(sp.si, sp.frame.toWorld(s.wi));
-    return weight / survive *
-           trace(next, scene, sampler, stats, nullptr, specularDepth + 1, false, BranchEmitters::None, glossyBranchEmitters_);
+    Color w = vmax(f, Color(0.0f)) * (std::abs(s.wi.z) / s.pdf);
+    float survive = std::min(1.0f, maxComponent(w));
+    if (!(survive > 0) || !isFinite(w) || uSurvive >= survive) return false;
+    *wi = sp.frame.toWorld(s.wi);
+    *weight = w / survive;
+    return true;
 }
 
 }  // namespace gi

@@ -34,6 +34,11 @@ protected:
     // traced on as a specular branch is, continued with Russian roulette on that weight.
     Color glossyIndirect(const Scene& scene, const ShadingPoint& sp, Sampler& sampler, RayStats& stats,
                          int specularDepth) const;
+    // The way on of such a ray from uniform numbers (lobe, direction, survival): false where
+    // Russian roulette or a delta lobe ends it, else its world direction and weight (the BSDF
+    // less its Lambertian lobe, cos / pdf, over the survival probability).
+    static bool sampleGlossyBranch(const ShadingPoint& sp, float uLobe, Vec2 u, float uSurvive, Vec3* wi,
+                                   Color* weight);
 
     int rayDepth_, lightSamples_;
     bool tracesGlossy_ = false;  // glossyIndirect at every non-specular hit

@@ -57,7 +57,7 @@ struct Photon {
     // Whether it came from its light through specular surfaces alone (L S+): light that a ray
     // traced from a glossy lobe finds only by chance, so such an integrator reads these photons
     // through the glossy lobes as well (PhotonMap::radianceBesideGlossyRays).
-    uint32_t caustic = 0;
+    bool caustic = false;
 
     Vec3 n() const { return octahedral::decode(normal); }
     Vec3 wi() const { return octahedral::decode(direction); }

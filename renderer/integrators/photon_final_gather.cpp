@@ -133,25 +133,20 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
         BsdfSample branches[3];
         int n = sp.bsdf.deltaBranches(sp.woLocal, branches);
         if (n == 0 && traceGlossy) {
-            // The glossy lobes' light from other surfaces: a ray sampled from the BSDF, weighted by
-            // its lobes but the Lambertian one (as DirectIntegrator::glossyIndirect), with Russian
-            // roulette on that weight; its next hit reads the map in turn. Emitters it reaches
-            // were the shadow ray's (through specular surfaces: the map's caustics).
+            // The glossy lobes' light from other surfaces, as DirectIntegrator::glossyIndirect
+            // traces it; its next hit reads the map in turn. Emitters it reaches were the shadow
+            // ray's (through specular surfaces: the map's caustics).
             if (depthLimitReached(vertex, settings_.finalGatherDepth, stats)) return L;
             float uLobe = sampler.get1D();
             Vec2 u = sampler.get2D();
             float uSurvive = sampler.get1D();
-            BsdfSample bs = sp.bsdf.sample(sp.woLocal, uLobe, u);
-            if (!bs.valid || bs.delta || !(bs.pdf > 0)) return L;
-            Color f = sp.bsdf.eval(sp.woLocal, bs.wi);
-            if (bs.wi.z > 0) f = f - sp.bsdf.diffuseLobe(sp.woLocal);
-            Color w = vmax(f, Color(0.0f)) * (std::abs(bs.wi.z) / bs.pdf);
-            float survive = std::min(1.0f, maxComponent(w));
-            if (!(survive > 0) || !isFinite(w) || uSurvive >= survive) return L;
-            weight *= w / survive;
+            Vec3 wi;
+            Color w;
+            if (!sampleGlossyBranch(sp, uLobe, u, uSurvive, &wi, &w)) return L;
+            weight *= w;
             countsEmitters = false;
             afterSpecular = false;
-            ray = spawnRay(sp.si, sp.frame.toWorld(bs.wi));
+            ray = spawnRay(sp.si, wi);
             continue;
         }
         if (n == 0 || depthLimitReached(vertex, settings_.finalGatherDepth, stats)) return L;
