@@ -1,5 +1,7 @@
 #include "light.h"
 
+#include "area_light.h"
+
 #include "material.h"
 #include "moving_light.h"
 
@@ -9,81 +11,12 @@ namespace {
 
 Color baseRadiance(const LightDesc& d) { return d.color * (d.intensity * std::exp2(d.exposure)); }
 
-// Solid-angle pdf of a point sampled uniformly by area.
-float areaToSolidAngle(float areaPdf, float distance, float cosAtLight) {
-    float c = std::fabs(cosAtLight);
-    return c > 1e-8f ? areaPdf * distance * distance / c : 0.0f;
-}
-
 // A unit direction between unit directions a and b (a moving light's normal between two steps);
 // a where they are opposite (no direction between).
 Vec3 directionBetween(const Vec3& a, const Vec3& b, float f) {
     Vec3 v = lerp(a, b, f);
     return lengthSquared(v) > 1e-12f ? normalize(v) : a;
 }
-
-// Shared machinery of the finite area emitters: uniform-area sampling and photon emission.
-class AreaLight : public Light {
-public:
-    struct SurfacePoint {
-        Vec3 p, n;  // n: the emitting side
-    };
-    virtual SurfacePoint samplePoint(Vec2 u) const = 0;
-    virtual float area() const = 0;
-    virtual bool twoSided() const { return false; }
-    virtual Color radianceAt(const SurfacePoint&) const { return L_; }
-    // The box holding the emitting surface, and the cone of its normals (cosine -1: all ways).
-    virtual bool extent(Vec3* lo, Vec3* hi) const { return shapeBounds(lo, hi); }
-    virtual Vec3 normalCone(float* cosThetaO) const {
-        *cosThetaO = -1;
-        return Vec3(0, 0, 1);
-    }
-    bool emissionBounds(LightBounds* b) const override {
-        if (!extent(&b->lo, &b->hi)) return false;
-        b->phi = luminance(power(bounds_));
-        b->w = normalCone(&b->cosThetaO);
-        b->cosThetaE = 0;  // each point emits over its hemisphere
-        b->twoSided = twoSided();
-        return b->phi > 0;
-    }
-
-    LightSample sample(const Vec3& ref, Vec2 u, float time) const override {
-        SurfacePoint s = samplePoint(u);
-        Vec3 d = s.p - ref;
-        float dist = length(d);
-        LightSample ls;
-        if (!(dist > 0)) return ls;
-        ls.wi = d / dist;
-        ls.distance = dist;
-        float cosLight = dot(-ls.wi, s.n);
-        if (cosLight <= 0 && !twoSided()) return ls;
-        ls.pdf = areaToSolidAngle(1 / area(), dist, cosLight);
-        ls.Li = ls.pdf > 0 ? radianceAt(s) : Color(0);
-        return ls;
-    }
-    PhotonEmission emit(Vec2 uPos, Vec2 uDir, const SceneBounds&, float) const override {
-        SurfacePoint s = samplePoint(uPos);
-        Vec3 local = sampleCosineHemisphere(uDir);
-        Vec3 n = s.n;
-        if (twoSided() && uDir.x < 0.5f) {  // reuse the bit: pick a side
-            n = -n;
-            local = sampleCosineHemisphere(Vec2(uDir.x * 2, uDir.y));
-        } else if (twoSided()) {
-            local = sampleCosineHemisphere(Vec2((uDir.x - 0.5f) * 2, uDir.y));
-        }
-        Frame f(n);
-        PhotonEmission e;
-        e.ray.o = offsetRayOrigin(s.p, n, n);
-        e.ray.d = f.toWorld(local);
-        // flux = L * cos / (pdf_area * pdf_dir) = L * A * pi (* 2 for two sides)
-        e.power = radianceAt(s) * (area() * kPi * (twoSided() ? 2.0f : 1.0f));
-        return e;
-    }
-    Color power(const SceneBounds&) const override { return L_ * (area() * kPi * (twoSided() ? 2.0f : 1.0f)); }
-
-protected:
-    Color L_;
-};
 
 class RectLight : public AreaLight {
 public:
@@ -547,63 +480,6 @@ public:
     void setConstantAverage() { average_ = scale_; }
 };
 
-class TriangleLight : public AreaLight {
-public:
-    TriangleLight(const Vec3 p[3], const Vec2 uv[3], const Material* m, bool twoSided)
-        : material_(m), twoSided_(twoSided) {
-        for (int i = 0; i < 3; ++i) {
-            p_[i] = p[i];
-            uv_[i] = uv[i];
-        }
-        Vec3 c = cross(p[1] - p[0], p[2] - p[0]);
-        area_ = 0.5f * length(c);
-        n_ = normalize(c);
-        L_ = m->emission(Vec2((uv[0].x + uv[1].x + uv[2].x) / 3, (uv[0].y + uv[1].y + uv[2].y) / 3));
-    }
-    SurfacePoint samplePoint(Vec2 u) const override {
-        Vec2 b = sampleUniformTriangle(u);
-        return {p_[0] * b.x + p_[1] * b.y + p_[2] * (1 - b.x - b.y), n_};
-    }
-    LightSample sample(const Vec3& ref, Vec2 u, float time) const override {
-        Vec2 b = sampleUniformTriangle(u);
-        Vec3 p = p_[0] * b.x + p_[1] * b.y + p_[2] * (1 - b.x - b.y);
-        Vec3 d = p - ref;
-        float dist = length(d);
-        LightSample ls;
-        if (!(dist > 0)) return ls;
-        ls.wi = d / dist;
-        ls.distance = dist;
-        float cosLight = dot(-ls.wi, n_);
-        if (cosLight <= 0 && !twoSided_) return ls;
-        ls.pdf = areaToSolidAngle(1 / area_, dist, cosLight);
-        Vec2 uv = uv_[0] * b.x + uv_[1] * b.y + uv_[2] * (1 - b.x - b.y);
-        ls.Li = ls.pdf > 0 ? material_->emission(uv) : Color(0);
-        return ls;
-    }
-    float area() const override { return area_; }
-    bool twoSided() const override { return twoSided_; }
-    bool extent(Vec3* lo, Vec3* hi) const override {
-        *lo = vmin(p_[0], vmin(p_[1], p_[2]));
-        *hi = vmax(p_[0], vmax(p_[1], p_[2]));
-        return true;
-    }
-    Vec3 normalCone(float* cosThetaO) const override {
-        *cosThetaO = 1;
-        return n_;
-    }
-    float pdf(const Vec3& ref, const Vec3& wi, float t, float time) const override {
-        return areaToSolidAngle(1 / area_, t, dot(-wi, n_));
-    }
-    Color radiance(const Vec3& wi, float time) const override { return L_; }  // hits use the material directly
-
-private:
-    Vec3 p_[3], n_;
-    Vec2 uv_[3];
-    const Material* material_;
-    bool twoSided_;
-    float area_;
-};
-
 bool finite(const LightDesc& d) {
     float v[] = {d.color.x, d.color.y, d.color.z, d.intensity, d.exposure, d.width, d.height, d.radius, d.length, d.angle};
     for (float x : v)
@@ -721,13 +597,6 @@ std::unique_ptr<Light> createLight(const LightDesc& d, std::string& warning) {
     if (!light) return nullptr;
     light->name = d.name;
     light->visibleToCamera = d.visibleToCamera;
-    return light;
-}
-
-std::unique_ptr<Light> createTriangleLight(const Vec3 p[3], const Vec2 uv[3], const Material* material,
-                                           bool doubleSided, const std::string& name) {
-    auto light = std::make_unique<TriangleLight>(p, uv, material, doubleSided);
-    light->name = name;
     return light;
 }
 

@@ -2,6 +2,7 @@
 // 2^exposure, divided by the world-space area when `normalize` is on. A distant light's
 // intensity is its irradiance at normal incidence, whatever its angular size.
 #pragma once
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -107,5 +108,11 @@ std::unique_ptr<Light> createLight(const LightDesc& desc, std::string& warning);
 class Material;
 std::unique_ptr<Light> createTriangleLight(const Vec3 p[3], const Vec2 uv[3], const Material* material,
                                            bool doubleSided, const std::string& name);
+// One emissive triangle that moves during the shutter (triangle_light.cpp): its points per step of
+// its own motion (one entry when only its transform moves), placed by `toWorld` per step of its
+// instance's motion (one entry: a still instance; empty: the points are in world space).
+std::unique_ptr<Light> createMovingTriangleLight(std::vector<std::array<Vec3, 3>> points, std::vector<Mat4> toWorld,
+                                                 const Vec2 uv[3], const Material* material, bool doubleSided,
+                                                 const std::string& name);
 
 }  // namespace gi

@@ -505,8 +505,12 @@ void Scene::buildLights() {
         if (!warning.empty()) warn(warning);
         if (light) lights_.push_back(std::move(light));
     }
-    auto addTriangles = [&](const Shape& s, const Mat4* toWorld) {
+    // A shape's emissive triangles as lights: placed by `toWorld` (an instance's, at the frame) or in
+    // world space; moving ones (the shape's own steps, or `stepToWorld`, an instance's) where they
+    // are at each ray's time, as Embree's motion geometry has them.
+    auto addTriangles = [&](const Shape& s, const Mat4* toWorld, const std::vector<Mat4>& stepToWorld) {
         const Material* m = materials_[s.material].get();
+        const bool moving = !s.stepPositions.empty() || !stepToWorld.empty();
         int first = int(lights_.size());
         for (size_t t = 0; t + 2 < s.indices.size(); t += 3) {
             Vec3 p[3];
@@ -516,7 +520,16 @@ void Scene::buildLights() {
                 p[k] = toWorld ? toWorld->point(s.positions[i]) : s.positions[i];
                 uv[k] = s.uvs.empty() ? Vec2(0, 0) : s.uvs[i];
             }
-            lights_.push_back(createTriangleLight(p, uv, m, s.doubleSided, s.name));
+            if (moving) {
+                std::vector<std::array<Vec3, 3>> points;
+                if (s.stepPositions.empty()) points.push_back({s.positions[s.indices[t]], s.positions[s.indices[t + 1]], s.positions[s.indices[t + 2]]});
+                for (const std::vector<Vec3>& step : s.stepPositions)
+                    points.push_back({step[s.indices[t]], step[s.indices[t + 1]], step[s.indices[t + 2]]});
+                std::vector<Mat4> placed = !stepToWorld.empty() ? stepToWorld : toWorld ? std::vector<Mat4>{*toWorld} : std::vector<Mat4>{};
+                lights_.push_back(createMovingTriangleLight(std::move(points), std::move(placed), uv, m, s.doubleSided, s.name));
+            } else {
+                lights_.push_back(createTriangleLight(p, uv, m, s.doubleSided, s.name));
+            }
             stats_.emissiveTriangles++;
         }
         return first;
@@ -524,12 +537,8 @@ void Scene::buildLights() {
     auto shapeName = [&](int i) -> const std::string& { return shapes_[size_t(i)].name; };
     for (int i : orderedByName(shapes_.size(), shapeName)) {
         Shape& s = shapes_[size_t(i)];
-        if (s.prototype < 0 && !s.isSphere && materials_[s.material]->isEmissive()) {
-            if (!s.stepPositions.empty())
-                warn("mesh " + s.name + ": an emissive mesh moves; it is sampled as a light where it is at shutter "
-                     "open (hit where it is at each ray's time)");
-            s.lightOffset = addTriangles(s, nullptr);
-        }
+        if (s.prototype < 0 && !s.isSphere && materials_[s.material]->isEmissive())
+            s.lightOffset = addTriangles(s, nullptr, {});
     }
     for (const Shape& s : shapes_)
         if (s.isSphere && materials_[s.material]->isEmissive())
@@ -538,15 +547,12 @@ void Scene::buildLights() {
         Instance& inst = instances_[size_t(i)];
         const Prototype& p = prototypes_[inst.prototype];
         if (!p.emissive) continue;
-        if (!inst.stepToWorld.empty())
-            warn("instance " + inst.name + ": an emissive instance moves; it is sampled as a light where it is at "
-                 "shutter open (hit where it is at each ray's time)");
         inst.lightOffset = int(lights_.size());
         for (int k : orderedByName(p.shapes.size(), [&](int k) -> const std::string& { return shapeName(p.shapes[size_t(k)]); })) {
             int sid = p.shapes[size_t(k)];
             if (!shapes_[sid].isSphere && materials_[shapes_[sid].material]->isEmissive())
                 prototypes_[inst.prototype].relativeLightOffset[sid] =
-                    addTriangles(shapes_[sid], &inst.toWorld) - inst.lightOffset;
+                    addTriangles(shapes_[sid], &inst.toWorld, inst.stepToWorld) - inst.lightOffset;
         }
     }
     if (!portals.empty()) {
