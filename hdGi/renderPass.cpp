@@ -1,5 +1,7 @@
 #include "renderPass.h"
 
+#include <algorithm>
+
 #include "camera.h"
 #include "pxr/imaging/hd/camera.h"
 #include "pxr/imaging/hd/renderIndex.h"
@@ -89,33 +91,57 @@ gi::ImageFraming ViewportFraming(HdRenderPassStateSharedPtr const& state, GfRect
 }
 
 // A batch host's render products (usdrecord sets enableInteractive false) are rendered as the
-// stage declares them: the first product's camera, resolution, aspect ratio conform policy, pixel
-// aspect ratio and data window (`window`, pixels of the resolution), instead of the host's viewport.
-bool ProductFraming(HdRenderIndex* index, HdRenderSettings::RenderProducts const& products,
-                    std::optional<gi::CameraDesc>* camera, gi::ImageFraming* framing, GfRect2i* dataWindow,
-                    gi::PixelWindow* window, std::vector<std::string>* problems) {
-    HdRenderSettings::RenderProduct const& product = products.front();
-    if (product.resolution[0] <= 0 || product.resolution[1] <= 0) return false;
-    auto const* sprim = dynamic_cast<HdCamera const*>(index->GetSprim(HdPrimTypeTokens->camera, product.cameraPath));
-    std::string const where = "render product " + product.productPath.GetString();
-    if (!sprim) {
-        problems->push_back(where + ": camera <" + product.cameraPath.GetString() +
-                            "> is not in the scene; the host's camera and image size are used");
-        return false;
+// stage declares them: each product's camera, resolution, aspect ratio conform policy, pixel
+// aspect ratio and data window (pixels of the resolution), instead of the host's viewport.
+// Products that agree on all of these share one render; the others render after it, in the order
+// of their first product (`gi render` renders each product on its own, to the same bits). A
+// product without a resolution, or whose camera is not in the scene (warned), is written from
+// `host`, the host's camera and image size.
+std::vector<HdGiProductImage> ProductImages(HdRenderIndex* index, HdRenderSettings::RenderProducts const& products,
+                                            HdGiProductImage const& host, std::vector<std::string>* problems) {
+    std::vector<HdGiProductImage> images;
+    auto sameImage = [](HdRenderSettings::RenderProduct const& a, HdRenderSettings::RenderProduct const& b) {
+        return a.cameraPath == b.cameraPath && a.resolution == b.resolution &&
+               a.aspectRatioConformPolicy == b.aspectRatioConformPolicy && a.pixelAspectRatio == b.pixelAspectRatio &&
+               a.dataWindowNDC == b.dataWindowNDC;
+    };
+    for (HdRenderSettings::RenderProduct const& product : products) {
+        std::string const where = "render product " + product.productPath.GetString();
+        auto const* sprim =
+            product.resolution[0] > 0 && product.resolution[1] > 0
+                ? dynamic_cast<HdCamera const*>(index->GetSprim(HdPrimTypeTokens->camera, product.cameraPath))
+                : nullptr;
+        if (product.resolution[0] > 0 && product.resolution[1] > 0 && !sprim)
+            problems->push_back(where + ": camera <" + product.cameraPath.GetString() +
+                                "> is not in the scene; the host's camera and image size are used");
+        auto same = std::find_if(images.begin(), images.end(), [&](HdGiProductImage const& image) {
+            return sprim ? image.productFramed && sameImage(image.products.front(), product) : !image.productFramed;
+        });
+        if (same != images.end()) {
+            same->products.push_back(product);
+            continue;
+        }
+        if (!sprim) {
+            images.push_back(host);
+            images.back().products = {product};
+            continue;
+        }
+        HdGiProductImage& image = images.emplace_back();
+        image.productFramed = true;
+        image.products = {product};
+        image.camera = CameraOf(*sprim);
+        // The flattened product holds the settings' policy when the product authors none.
+        std::string const policy = product.aspectRatioConformPolicy.GetString();
+        if (!policy.empty() && !gi::parseApertureConform(policy, &image.framing.conform))
+            problems->push_back(where + ": aspectRatioConformPolicy '" + policy + "' is unknown; " +
+                                gi::apertureConformToken(image.framing.conform) + " is used");
+        image.framing.pixelAspectRatio = product.pixelAspectRatio;
+        image.dataWindow = GfRect2i(GfVec2i(0), product.resolution[0], product.resolution[1]);
+        std::string problem;
+        image.window = HdGiProductWindow(product, product.resolution[0], product.resolution[1], &problem);
+        if (!problem.empty()) problems->push_back(where + ": " + problem);
     }
-    *camera = CameraOf(*sprim);
-    *framing = gi::ImageFraming();
-    // The flattened product holds the settings' policy when the product authors none.
-    std::string const policy = product.aspectRatioConformPolicy.GetString();
-    if (!policy.empty() && !gi::parseApertureConform(policy, &framing->conform))
-        problems->push_back(where + ": aspectRatioConformPolicy '" + policy + "' is unknown; " +
-                            gi::apertureConformToken(framing->conform) + " is used");
-    framing->pixelAspectRatio = product.pixelAspectRatio;
-    *dataWindow = GfRect2i(GfVec2i(0), product.resolution[0], product.resolution[1]);
-    std::string problem;
-    *window = HdGiProductWindow(product, product.resolution[0], product.resolution[1], &problem);
-    if (!problem.empty()) problems->push_back(where + ": " + problem);
-    return true;
+    return images;
 }
 
 }  // namespace
@@ -142,13 +168,23 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
     }
     gi::ImageFraming framing = ViewportFraming(state, dataWindow);
     HdRenderSettings::RenderProducts products;
+    std::vector<HdGiProductImage> moreImages;
     bool productMode = false;
     gi::PixelWindow window;  // the pixels rendered: empty, all of dataWindow
     if (!delegate->GetRenderSetting<bool>(HdRenderSettingsTokens->enableInteractive, true) &&
         !(products = _param->Products()).empty()) {
         std::vector<std::string> problems;
-        productMode = ProductFraming(GetRenderIndex(), products, &camera, &framing, &dataWindow, &window, &problems);
+        HdGiProductImage host{camera, framing, dataWindow, window, {}, false};
+        std::vector<HdGiProductImage> images = ProductImages(GetRenderIndex(), products, host, &problems);
         for (std::string const& problem : problems) _param->Warn(problem);
+        HdGiProductImage const& first = images.front();
+        productMode = first.productFramed;
+        camera = first.camera;
+        framing = first.framing;
+        dataWindow = first.dataWindow;
+        window = first.window;
+        products = first.products;
+        moreImages.assign(images.begin() + 1, images.end());
     }
     // The frame the host renders (usdrecord's time code, through the scene globals' currentFrame):
     // it seeds the render as `gi render --frames` does and names the products' files, so a new
@@ -196,6 +232,7 @@ void HdGiRenderPass::_Execute(HdRenderPassStateSharedPtr const& state, TfTokenVe
     job.frame = frame;
     job.denoise = HdGiReadDenoise(*delegate);
     job.products = products;
+    job.moreImages = moreImages;
     job.productMode = productMode;
     job.camera = camera;
     job.projection = projection;

@@ -17,6 +17,7 @@ double SecondsSince(Clock::time_point t) { return std::chrono::duration<double>(
 // Passes grow to this many samples: large enough to amortise the per-pass resolve, small
 // enough that the image refreshes often.
 constexpr int kMaxPassSamples = 8;
+HdGiRenderBuffer* BufferOf(HdRenderPassAovBinding const& aov) { return dynamic_cast<HdGiRenderBuffer*>(aov.renderBuffer); }
 }  // namespace
 
 bool HdGiIsSupportedAov(TfToken const& name) {
@@ -42,13 +43,33 @@ HdGiSessionStats HdGiRenderSession::Stats() const {
 }
 
 void HdGiRenderSession::Run() {
+    HdGiRenderJob const job = _job;
+    if (job.aovs.empty() || job.dataWindow.IsEmpty()) return;
+    std::vector<HdGiRenderJob> images = {job};
+    for (HdGiProductImage const& image : job.moreImages) {
+        HdGiRenderJob& next = images.emplace_back(job);
+        next.camera = image.camera;
+        next.settings.framing = image.framing;
+        next.settings.window = image.window;
+        next.dataWindow = image.dataWindow;
+        next.products = image.products;
+        next.productMode = true;  // no preview: its pixels never reach the AOVs
+        next.moreImages.clear();
+    }
+    bool converged = false;
+    for (size_t i = 0; i < images.size(); ++i) {
+        converged = _Render(images[i], i == 0, i + 1 == images.size());
+        if (!converged) break;  // stopped, or the render failed
+    }
+    _converged = converged;
+}
+
+bool HdGiRenderSession::_Render(HdGiRenderJob const& job, bool showsAovs, bool last) {
     auto start = Clock::now();
     double const startSeconds = gi::steadySeconds();
-    HdGiRenderJob job = _job;
     // The render ends by the time limit, the scene build included, as in `gi render`.
     double const deadline = job.settings.timeLimit > 0 ? startSeconds + job.settings.timeLimit : 0;
     HdGiSessionStats stats;
-    if (job.aovs.empty() || job.dataWindow.IsEmpty()) return;
 
     int version = _param->SceneVersion();
     GfVec2f const shutter = job.camera ? GfVec2f(job.camera->shutterOpen, job.camera->shutterClose) : GfVec2f(0.0f);
@@ -70,13 +91,13 @@ void HdGiRenderSession::Run() {
     gi::RenderSettings settings = job.settings;
     settings.width = job.dataWindow.GetWidth();
     settings.height = job.dataWindow.GetHeight();
-    if (_RenderPreview(job, settings)) stats.firstPixelSeconds = SecondsSince(start);
+    if (showsAovs && _RenderPreview(job, settings)) stats.firstPixelSeconds = SecondsSince(start);
     std::unique_ptr<gi::Renderer> renderer;
     try {
         renderer = std::make_unique<gi::Renderer>(*_scene, settings, job.camera ? &*job.camera : nullptr);
     } catch (std::exception const& e) {
         TF_RUNTIME_ERROR("hdGi: cannot render: %s", e.what());
-        return;
+        return false;
     }
     _param->Store().ReportWarnings(*_scene);  // the camera's (a shutter closing before it opens)
     {
@@ -104,13 +125,16 @@ void HdGiRenderSession::Run() {
         if (stats.firstPixelSeconds == 0) stats.firstPixelSeconds = stats.firstPassSeconds;  // no preview
         // Products first: usdrecord looks for their files once the AOVs say converged.
         if (converged && !job.products.empty()) _WriteProducts(*renderer, job);
-        _WriteAovs(*renderer, job, converged);
+        if (showsAovs) _WriteAovs(*renderer, job, converged && last);
+        if (converged && last && !showsAovs)
+            for (HdRenderPassAovBinding const& aov : job.aovs)
+                if (HdGiRenderBuffer* buffer = BufferOf(aov)) buffer->SetConverged(true);
         stats.samples = taken;
         stats.targetSamples = target;
         stats.rays = renderer->stats().rays;
         stats.nonFiniteSamples = renderer->stats().nonFiniteSamples;
         stats.renderSeconds = SecondsSince(start);
-        stats.converged = converged;
+        stats.converged = converged && last;
         {
             std::lock_guard<std::mutex> lock(_statsMutex);
             _stats = stats;
@@ -126,7 +150,7 @@ void HdGiRenderSession::Run() {
     _stats.renderSeconds = stats.renderSeconds;
     _stats.lastTileTime = std::max(_stats.lastTileTime, renderer->lastTileTime());
     _active = nullptr;
-    _converged = converged;
+    return converged;
 }
 
 bool HdGiRenderSession::_RenderPreview(HdGiRenderJob const& job, gi::RenderSettings const& settings) {
@@ -159,8 +183,6 @@ bool HdGiRenderSession::_RenderPreview(HdGiRenderJob const& job, gi::RenderSetti
 }
 
 namespace {
-
-HdGiRenderBuffer* BufferOf(HdRenderPassAovBinding const& aov) { return dynamic_cast<HdGiRenderBuffer*>(aov.renderBuffer); }
 
 // A film's pixels (channels per pixel, row by row) enlarged to width x height, nearest pixel.
 template <typename T>

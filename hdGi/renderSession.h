@@ -18,6 +18,17 @@
 
 PXR_NAMESPACE_OPEN_SCOPE
 
+// One image a batch host's render products ask for: the products that share a camera,
+// resolution, framing and data window, written from one render (renderPass.cpp's ProductImages).
+struct HdGiProductImage {
+    std::optional<gi::CameraDesc> camera;
+    gi::ImageFraming framing;
+    GfRect2i dataWindow;
+    gi::PixelWindow window;  // empty: all of dataWindow
+    HdRenderSettings::RenderProducts products;
+    bool productFramed = false;  // false: the host's camera and image size (the product cannot say)
+};
+
 // Everything one render depends on besides the scene.
 struct HdGiRenderJob {
     gi::RenderSettings settings;
@@ -32,6 +43,10 @@ struct HdGiRenderJob {
     // Rendered at the products' camera and resolution (a batch host): the AOV buffers, sized for
     // the host's viewport, are only marked converged.
     bool productMode = false;
+    // Products whose camera, resolution, framing or data window differ from `products`': each
+    // image rendered after this job's, in turn, as `gi render` renders each product; the AOVs
+    // are converged when the last one is.
+    std::vector<HdGiProductImage> moreImages;
 };
 
 struct HdGiSessionStats {
@@ -64,6 +79,10 @@ public:
     HdGiSessionStats Stats() const;
 
 private:
+    // One image of the job: the scene (re)built for its camera's shutter, then its passes until
+    // its samples or time limit are done; `showsAovs`: its film goes to the AOVs (the job's first
+    // image), which are marked converged when `last` converges. True when it converged.
+    bool _Render(HdGiRenderJob const& job, bool showsAovs, bool last);
     void _WriteAovs(gi::Renderer const& renderer, HdGiRenderJob const& job, bool converged);
     // A quick low-resolution image into the AOVs before the first pass; false if none was shown.
     bool _RenderPreview(HdGiRenderJob const& job, gi::RenderSettings const& settings);

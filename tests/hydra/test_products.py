@@ -17,22 +17,22 @@ VARS = {"Color": ("color", "color3f"), "Depth": ("depth", "float"), "N": ("norma
 EXPECTED_CHANNELS = ["R", "G", "B", "Depth", "Albedo.R", "Albedo.G", "Albedo.B", "N.X", "N.Y", "N.Z"]
 
 
-def product_stage(path, product_files, window=None, resolution=None, seed=SEED, more=""):
+def product_stage(path, product_files, window=None, resolution=None, seed=SEED, more="", attributes=None):
     """The Cornell box with one product of VARS per name in `product_files`, each with the
-    dataWindowNDC `window` and the resolution `resolution` when given; `more`: text added to the
-    stage."""
+    dataWindowNDC `window` and the resolution `resolution` when given, or the attribute lines
+    `attributes[i]` (USD text) instead; `more`: text added to the stage."""
     var_prims = "\n".join(f'''        def RenderVar "{name}"
         {{
             string sourceName = "{source}"
             token dataType = "{data_type}"
         }}''' for name, (source, data_type) in VARS.items())
     targets = ", ".join(f"</Render/Vars/{name}>" for name in VARS)
-    attributes = (f"            uniform float4 dataWindowNDC = {tuple(window)}\n" if window else "") + \
-                 (f"            uniform int2 resolution = {tuple(resolution)}\n" if resolution else "")
+    common = (f"            uniform float4 dataWindowNDC = {tuple(window)}\n" if window else "") + \
+             (f"            uniform int2 resolution = {tuple(resolution)}\n" if resolution else "")
     products = "\n".join(f'''        def RenderProduct "P{i}"
         {{
             token productName = "{name}"
-{attributes}            rel orderedVars = [{targets}]
+{common if attributes is None else attributes[i]}            rel orderedVars = [{targets}]
         }}''' for i, name in enumerate(product_files))
     product_targets = ", ".join(f"</Render/Products/P{i}>" for i in range(len(product_files)))
     path.write_text(f'''#usda 1.0
@@ -174,3 +174,61 @@ def test_usdrecord_frames_of_a_still_scene_write_every_frame(tmp_path):
     assert (first_meta["gi:seed"], second_meta["gi:seed"]) == (str(SEED + 1), str(SEED + 2))
     assert not np.array_equal(first, second)
     assert abs(first[..., :3].mean() / second[..., :3].mean() - 1) < 0.2  # the same scene
+
+
+SIDE_CAMERA = """
+over "World"
+{
+    def Camera "Side"
+    {
+        float focalLength = 35
+        float horizontalAperture = 36
+        float verticalAperture = 24
+        float2 clippingRange = (0.01, 100)
+        double3 xformOp:translate = (0.4, 0.1, 3.6)
+        float3 xformOp:rotateXYZ = (2, 6, 0)
+        uniform token[] xformOpOrder = ["xformOp:translate", "xformOp:rotateXYZ"]
+    }
+}
+"""
+
+# Three products of one render settings prim: the settings' camera at 64 x 64; another camera at
+# 72 x 48 with a data window and a conform policy of its own; and the first again under another
+# name (the two share one render in Hydra). Name -> attribute lines.
+PRODUCTS = {"front": "            uniform int2 resolution = (64, 64)\n",
+            "side": "            rel camera = </World/Side>\n"
+                    "            uniform int2 resolution = (72, 48)\n"
+                    "            uniform float4 dataWindowNDC = (0.25, 0, 1, 0.75)\n"
+                    '            uniform token aspectRatioConformPolicy = "cropAperture"\n',
+            "front_again": "            uniform int2 resolution = (64, 64)\n"}
+
+
+def products_stage(path, folder):
+    return product_stage(path, [folder / f"{name}.exr" for name in PRODUCTS], more=SIDE_CAMERA,
+                         attributes=list(PRODUCTS.values()))
+
+
+def test_usdrecord_renders_each_products_own_camera_resolution_and_window(tmp_path):
+    """Products of one render settings prim with different cameras, resolutions, conform policies
+    and data windows: hdGi renders one image per distinct set, in turn, and each file equals what
+    `gi render` writes for that product, channel for channel and bit for bit."""
+    for host in ("hydra", "cli"):
+        (tmp_path / host).mkdir()
+    log = usdrecord(products_stage(tmp_path / "hydra/stage.usda", tmp_path / "hydra"), tmp_path / "hydra/usdrecord.exr")
+    assert "differs from the first product's" not in log and "is not the render's" not in log, log[-3000:]
+    gi_render(products_stage(tmp_path / "cli/stage.usda", tmp_path / "cli"), "--seed", SEED)
+    images = {}
+    for name in PRODUCTS:
+        hydra, hydra_meta = read(tmp_path / "hydra" / f"{name}.exr")
+        cli, cli_meta = read(tmp_path / "cli" / f"{name}.exr")
+        assert hydra_meta["channels"] == EXPECTED_CHANNELS == cli_meta["channels"], name
+        assert hydra_meta["data_window"] == cli_meta["data_window"], name
+        assert hydra_meta["display_window"] == cli_meta["display_window"], name
+        assert hydra_meta["gi:product"] == f"/Render/Products/P{list(PRODUCTS).index(name)}"
+        assert np.array_equal(hydra, cli), name
+        images[name] = (hydra, hydra_meta)
+    # 72 x 48 with the window's pixels only: x from 18 to 72, the bottom three quarters of the rows
+    # (NDC y runs up).
+    assert images["side"][1]["data_window"] == (18, 12, 54, 36)
+    assert images["front"][0].shape[:2] == (64, 64)
+    assert np.array_equal(images["front"][0], images["front_again"][0])
