@@ -281,11 +281,12 @@ std::string AutoChoice::summary() const {
     std::string text = "auto: chose " + integrator + " for " + std::to_string(int(std::lround(budgetSeconds))) +
                        " s after " + std::to_string(pilotSeconds).substr(0, 4) + " s of pilots at " +
                        std::to_string(pilotWidth) + "x" + std::to_string(pilotHeight) +
-                       "; predicted RMSE (sRGB codes):";
+                       "; predicted RMSE (sRGB codes; its square = bias + cache noise + sample noise):";
     for (const AutoPrediction& p : predictions) {
         char buffer[192];
         if (p.complete)
-            std::snprintf(buffer, sizeof buffer, " %s %.2f%s", p.integrator.c_str(), p.predictedRmse,
+            std::snprintf(buffer, sizeof buffer, " %s %.2f (%.2f + %.2f + %.2f)%s", p.integrator.c_str(),
+                          p.predictedRmse, p.predictedBias, p.predictedCacheNoise, p.predictedSampleNoise,
                           &p == &predictions.back() ? "" : ",");
         else  // its pilot rendered fewer than two batches in its share
             std::snprintf(buffer, sizeof buffer,
@@ -415,7 +416,12 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     // pixels (4 to 5 codes RMSE on the Cornell box, as much as the caches' whole error), and the
     // blur is its mean's difference from the path tracer's, less both noises. Unless the path
     // tracer misses light (a sun through glass), which shows as a darker mean: a blur keeps the
-    // image's mean, a miss does not.
+    // image's mean, a miss does not. R is mixed in codes, where its error is measured: mixed as
+    // linear values, the photon map's blur of a bright light (values far above 1) into dark pixels
+    // clips their codes whatever its weight, so R's error exceeded what the weights say (Cornell
+    // box at 60 s, three runs: 6.0 to 7.2 codes squared where they said 4.8 to 5.0; mixed in codes
+    // 5.3 to 6.1, and the caches' bias estimates moved from 1.2 to 0.5 above what their pilots'
+    // own errors held, on average; bench/pilot_accuracy.py).
     const AutoPilot* path = nullptr;
     const AutoPilot* progressive = nullptr;
     size_t pathIndex = 0, progressiveIndex = 0;
@@ -436,20 +442,20 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                                                                   srgbCodes(means[pathIndex])) -
                                                 meanNoise[progressiveIndex] - meanNoise[pathIndex]);
     }
-    std::vector<double> reference(n, 0.0);
+    std::vector<double> referenceCodes(n, 0.0);
     double weightSum = 0;
     for (size_t k = 0; k < pilots.size(); ++k) {
         if (!pilots[k].complete || !isConsistent(pilots[k].integrator)) continue;
         double w = 1.0 / (meanNoise[k] + (&pilots[k] == progressive ? progressiveBlur : 0) + kNoiseFloor);
         weightSum += w;
-        for (size_t i = 0; i < n; ++i) reference[i] += w * means[k][i];
+        const std::vector<double> codes = srgbCodes(means[k]);
+        for (size_t i = 0; i < n; ++i) referenceCodes[i] += w * codes[i];
     }
     choice.integrator = "path";
     // Without a consistent technique's pilot there is nothing to measure bias against: every
     // prediction is left out, and the choice is the unbiased technique.
     const bool compared = weightSum > 0;
-    for (double& r : reference) r /= compared ? weightSum : 1;
-    const std::vector<double> referenceCodes = srgbCodes(reference);
+    for (double& r : referenceCodes) r /= compared ? weightSum : 1;
     // R's mean squared error, its noise and the blur it holds: 1 / the weights' sum.
     const double referenceVariance = compared ? 1.0 / weightSum : 0;
 
@@ -515,7 +521,10 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                 noiseShare = std::min(1.0, ratio * meanRadiusPower(a, 0, finalSamples, -1) /
                                                meanRadiusPower(a, first, end, -1));
             }
-            double mse = p.bias * biasShare + p.cacheNoise * cacheShare + predictedNoise(pilot, noiseShare);
+            p.predictedBias = p.bias * biasShare;
+            p.predictedCacheNoise = p.cacheNoise * cacheShare;
+            p.predictedSampleNoise = predictedNoise(pilot, noiseShare);
+            double mse = p.predictedBias + p.predictedCacheNoise + p.predictedSampleNoise;
             p.predictedRmse = std::sqrt(mse);
             if (p.integrator == "path") pathMse = mse;
         }

@@ -37,10 +37,9 @@
 //   Sponza, path tracer, 64 samples: 191 reached; predicted from 8 batches of 4 samples 175 (the
 //   old estimate 108; the centre without the window, c_k = m_k: 306).
 // Then, per technique,
-//   error  e = mean((f(M) - f(R))^2) - Var(f(R))      the pilot's mean's squared error, where R is
-//                                                     the path tracer's pilot, or where it misses
-//                                                     light, the inverse-variance mean of the
-//                                                     consistent techniques' (path,
+//   error  e = mean((f(M) - R)^2) - Var(R)            the pilot's mean's squared error, where R is
+//                                                     the inverse-variance mean of the consistent
+//                                                     techniques' pilots' codes f (path,
 //                                                     progressivePhotonMap; see below)
 //   cache  c2 = max(0, mean((f(M_1) - f(M_2))^2) - noise(1 / K_1) - noise(1 / K_2)) / 2, with
 //               M_1, M_2 the two caches' means of K_1, K_2 batches (noise(q) then from each
@@ -64,11 +63,12 @@
 //            render's (on the Cornell box at 60 s the irradiance cache's pilot error, taken as bias
 //            alone, predicted 2.5 for 0.8 reached: refined records keep converging; with the
 //            cache's noise apart, 1.6 to 1.8, still pessimistic).
-// R is the path tracer's pilot unless the progressive photon map's is brighter in the mean by
-// more than 4 standard errors and 2%: its pilot's first radii, wide and wider in the world at the
-// pilot's coarse pixels, blur it by 4 to 5 codes RMSE on the Cornell box (the caches' whole
-// error), and a blur keeps the image's mean where a light the path tracer misses (a sun through
-// glass) does not.
+// R weighs the progressive photon map's pilot by its noise and its blur (its difference from the
+// path tracer's, less both noises), unless it is brighter in the mean by more than 4 standard
+// errors and 2%, when the path tracer misses light (a sun through glass) and the blur, which
+// keeps the image's mean, is not counted: its pilot's first radii, wide and wider in the world
+// at the pilot's coarse pixels, blur it by 4 to 5 codes RMSE on the Cornell box (the caches'
+// whole error).
 // A technique other than the path tracer is chosen only when its predicted MSE is below
 // kAutoMargin of the path tracer's, so an uncertain prediction falls back on the unbiased one.
 #pragma once
@@ -110,6 +110,9 @@ struct AutoPrediction {
     double noise = 0, bias = 0;   // noise(1) (one batch's) and b2 above, sRGB codes squared
     double cacheNoise = 0;        // c2 above: one cache's noise, sRGB codes squared
     double predictedRmse = 0;     // sqrt of the predicted MSE at the budget, sRGB codes
+    // The predicted MSE's parts at the budget (sRGB codes squared; they sum to predictedRmse^2):
+    // the bias left, the cache's own noise left, the camera samples' noise.
+    double predictedBias = 0, predictedCacheNoise = 0, predictedSampleNoise = 0;
 };
 
 struct AutoChoice {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <random>
 
@@ -232,6 +233,17 @@ TEST(Auto, SeparatesACachesNoiseFromItsBias) {
     EXPECT_NEAR(mse("adaptiveIrradianceCache"), f.bias + f.cacheNoise + predictedNoise(fixedRecords, 0.1), 1e-9);
     const AutoPrediction& g = prediction(choice, "photonMapFinalGather");
     EXPECT_NEAR(mse("photonMapFinalGather"), g.bias + g.cacheNoise * 0.05 + predictedNoise(photons, 0.1), 1e-9);
+    // The log's parts of each prediction are these terms, and they add up to it.
+    EXPECT_NEAR(r.predictedBias, r.bias, 1e-9);
+    EXPECT_NEAR(r.predictedCacheNoise, r.cacheNoise * 0.4, 1e-9);
+    EXPECT_NEAR(r.predictedSampleNoise, predictedNoise(refined, 0.1), 1e-9);
+    for (const AutoPrediction& p : choice.predictions)
+        EXPECT_NEAR(p.predictedBias + p.predictedCacheNoise + p.predictedSampleNoise, mse(p.integrator.c_str()), 1e-9)
+            << p.integrator;
+    char part[64];
+    std::snprintf(part, sizeof part, "irradianceCache %.2f (%.2f + %.2f + %.2f)", r.predictedRmse, r.predictedBias,
+                  r.predictedCacheNoise, r.predictedSampleNoise);
+    EXPECT_NE(choice.summary().find(part), std::string::npos) << choice.summary();
 }
 
 // The progressive photon map's pilot blurs (+-6 codes on alternate values, the image's mean kept):
@@ -252,6 +264,41 @@ TEST(Auto, TheReferenceWeighsThePhotonMapsBlur) {
     // and the second-order terms of +-6 codes, 1.2.
     EXPECT_NEAR(prediction(choice, "irradianceCache").bias, 4, 1.2);
     EXPECT_NEAR(prediction(choice, "progressivePhotonMap").bias, 36.0 / 4, 2.5 / 4);
+}
+
+// R is mixed in codes. Half the image is a light (linear 100, code 255); the progressive photon
+// map's blur moves 50 of each of its values into a dark one (code 100 -> 255; the image's mean kept, so
+// the path tracer misses nothing). Its blur, about 0.5 * 155^2 codes squared, gives it a weight of
+// about 1 / 12,000 beside the path tracer's 1 / 6.25 (noise 10 codes on the dark values, over K = 8
+// batches, on half the values): mixed as linear values, its 50 still moves R's dark values by
+// several codes (each 0.01 linear there is 3.7 codes; the cache's bias estimate came out at 22.4);
+// mixed in codes, by 0.1 code. The cache's bias, 2 codes on the dark values, is 2 codes squared; its
+// estimate's standard error is about sqrt(0.5 * (2 * 12.6^2 + 4 * 4 * 12.6) / n) = 0.2: within 1.
+TEST(Auto, TheReferenceIsMixedInCodes) {
+    const double light = 100, spill = 50;
+    // The right half: the 3x3 windows of noise(q) (see auto_select.h) see the light only on the
+    // edge's column (their centre clips there, and the path tracer's noise goes unseen: 0.2 codes
+    // squared more bias).
+    auto dark = [](size_t i) { return i / 3 % kPilotWidth >= kPilotWidth / 2; };
+    AutoPilot path = syntheticPilot("path", 0, 0, 0.1, 41);
+    AutoPilot progressive = syntheticPilot("progressivePhotonMap", 0, 0, 0.1, 42);
+    AutoPilot cache = syntheticPilot("irradianceCache", 0, 0, 0.1, 43);
+    std::mt19937 rng(44);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    for (size_t k = 0; k < path.batches.size(); ++k)
+        for (size_t i = 0; i < path.batches[k].size(); ++i) {
+            if (!dark(i)) {
+                path.batches[k][i] = float(light);
+                progressive.batches[k][i] = float(light - spill);
+                cache.batches[k][i] = float(light);
+                continue;
+            }
+            path.batches[k][i] = float(linearOf(kTruth) + 10 / slopeAt(kTruth) * gauss(rng));
+            progressive.batches[k][i] = float(linearOf(kTruth) + spill + gauss(rng) / slopeAt(kTruth));
+            cache.batches[k][i] = float(linearOf(kTruth + 2) + 2 / slopeAt(kTruth + 2) * gauss(rng));
+        }
+    AutoChoice choice = predictFromPilots({path, progressive, cache}, kPilotPixels, 4.0 * kPilotPixels, 4.0);
+    EXPECT_NEAR(prediction(choice, "irradianceCache").bias, 2, 1.0);
 }
 
 // A cache whose first samples cost more (records made where pixels first need them): its
