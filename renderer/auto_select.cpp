@@ -102,6 +102,27 @@ double meanSquaredDifference(const std::vector<double>& a, const std::vector<dou
     return a.empty() ? 0 : sum / double(a.size());
 }
 
+// The batches [first, end) of a pilot, as a pilot of one cache.
+AutoPilot cachePilot(const AutoPilot& pilot, size_t first, size_t end) {
+    AutoPilot part = pilot;
+    part.batches.assign(pilot.batches.begin() + long(first), pilot.batches.begin() + long(end));
+    part.batchSamples = pilot.batchSamples.size() == pilot.batches.size()
+                            ? std::vector<double>(pilot.batchSamples.begin() + long(first),
+                                                  pilot.batchSamples.begin() + long(end))
+                            : std::vector<double>(part.batches.size(), 1.0);
+    part.firstCacheBatches = 0;
+    return part;
+}
+
+// The noise a + b x at x = 1 (the render's photons) through v1 at x1 and v2 at x2 < x1: no less
+// than 1 / x falls (a >= 0), and v2 where more photons did not lower it.
+double noiseAtTheRendersPhotons(double v1, double x1, double v2, double x2) {
+    const double b = (v1 - v2) / (x1 - x2);
+    if (!(b > 0)) return v2;
+    const double a = v2 - b * x2;
+    return a >= 0 ? a + b : v2 / x2;
+}
+
 // The parameters of the render that `integrator` takes (sampleClamp, say), under the preset.
 ParamSet paramsFor(const std::string& integrator, const RenderSettings& settings) {
     const IntegratorInfo* info = findIntegrator(integrator);
@@ -123,6 +144,16 @@ void scalePhotonCounts(const IntegratorInfo& info, double pixelRatio, ParamSet& 
                 double full = paramValue(info, params, name);
                 params.set(name, std::min(full, std::max(kMinPilotPhotons, std::round(full * pixelRatio))));
             }
+}
+
+// The second cache of a photon technique's pilot traces `factor` times the first's photons (at
+// most the render's), so that the two caches' noise gives its law in the photon count.
+void growPhotonCounts(const IntegratorInfo& info, const ParamSet& renderParams, double factor, ParamSet& params) {
+    for (const char* name : {"photons", "causticPhotons"})
+        for (const ParamInfo& p : info.params)
+            if (p.name == name)
+                params.set(name, std::min(paramValue(info, renderParams, name),
+                                          std::round(paramValue(info, params, name) * factor)));
 }
 
 RenderSettings pilotSettings(const RenderSettings& settings, const std::string& integrator, int width, int height,
@@ -203,17 +234,35 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
     double batchSeconds = 0;  // the latest batch's
     std::vector<size_t> cacheBatches;
     double lastBatchesSeconds = 0, lastBatchesSamples = 0;  // the last batch of each cache's
-    double preprocessSeconds = 0;
+    double preprocessSeconds = 0, firstPreprocessSeconds = 0;
     int preprocesses = 0;
+    bool grew = false;  // the second cache traced more photons than the first
     for (int c = 0; c < caches; ++c) {
         double end = start + seconds * (c + 1) / caches;
         RenderSettings cs = ps;
         cs.seed = seed + uint32_t(c);  // the next technique's pilot starts 2 seeds on
+        // A photon technique's second cache traces more photons, as many as a third of its time
+        // allows at the first's preprocessing rate (at most the render's), if that is 2x or more.
+        double grownShare = 0;
+        if (c == 1 && pilot.photonShare > 0 && pilot.photonShare < 1) {
+            const double affordable = kPhotonGrowthPreprocessShare * std::max(0.0, end - steadySeconds()) /
+                                      std::max(preprocessSeconds, 1e-4);
+            const double factor = std::min(affordable, 1.0 / pilot.photonShare);
+            if (factor >= 2) {
+                growPhotonCounts(info, paramsFor(integrator, settings), factor, cs.params);
+                grownShare = paramValue(info, cs.params, "photons") /
+                             std::max(1.0, paramValue(info, paramsFor(integrator, settings), "photons"));
+            }
+        }
         Renderer renderer(scene, cs, &camera);
         bool preprocessed = renderer.preprocess(cancel, end);
         preprocessSeconds += renderer.stats().preprocessSeconds;
+        if (c == 0) firstPreprocessSeconds = renderer.stats().preprocessSeconds;
+        grew = grew || grownShare > 0;
         ++preprocesses;
         if (!preprocessed) break;
+        // Photons cut short by the deadline stand for those asked: their count is not known.
+        if (grownShare > 0 && renderer.stats().preprocessScaledDown == 0) pilot.secondPhotonShare = grownShare;
         int batches = kAutoPilotBatches / caches;
         int firstSample = 0;
         size_t made = 0;
@@ -253,11 +302,15 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
     }
     if (caches == 2 && cacheBatches.size() == 2 && cacheBatches[1] >= 2)
         pilot.firstCacheBatches = int(cacheBatches[0]);
-    else if (caches == 2 && !cacheBatches.empty()) {
-        pilot.batches.resize(cacheBatches[0]);  // the second cache's lone batch, if any, goes
-        pilot.batchSamples.resize(cacheBatches[0]);
+    else {
+        pilot.secondPhotonShare = 0;
+        if (caches == 2 && !cacheBatches.empty()) {
+            pilot.batches.resize(cacheBatches[0]);  // the second cache's lone batch, if any, goes
+            pilot.batchSamples.resize(cacheBatches[0]);
+        }
     }
-    pilot.preprocessSeconds = preprocessSeconds / std::max(1, preprocesses);
+    // The render's photons per pixel are the first cache's: its preprocessing is the one to scale.
+    pilot.preprocessSeconds = grew ? firstPreprocessSeconds : preprocessSeconds / std::max(1, preprocesses);
     if (cancel && cancel->load()) return pilot;
     if (lastBatchesSamples > 0) pilot.steadySecondsPerSample = lastBatchesSeconds / (lastBatchesSamples * width * height);
     pilot.complete = pilot.batches.size() >= 2;
@@ -379,6 +432,10 @@ double predictedNoise(const AutoPilot& pilot, double q) {
                     const double group = first ? double(split) : double(K - split);
                     double value = batches[k][i];
                     double center = (window - value) / double(size_t(count) * K - 1);
+                    // A window that clips (a light beside the pixel) would hide the pixel's own
+                    // noise (f' = 0 there): its own other batches' mean is taken instead.
+                    const double own = (total[i] - value) / double(K - 1);
+                    if (center >= 1 && own < 1) center = own;
                     double deviation =
                         std::sqrt((group - 1) / group) * (value - (groupTotal - value) / (group - 1)) * sizeScale[k];
                     double e = srgbCode(center + q * deviation) - srgbCode(center);
@@ -474,6 +531,10 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             double error = meanSquaredDifference(srgbCodes(means[k]), referenceCodes) - referenceVariance;
             const AutoPilot& pilot = pilots[k];
             const size_t split = size_t(pilot.firstCacheBatches);
+            const bool photonLaw = split > 0 && pilot.photonShare > 0 && pilot.secondPhotonShare > pilot.photonShare;
+            const std::pair<double, double> photonsShort =
+                photonLaw ? std::make_pair(1 / pilot.photonShare, 1 / pilot.secondPhotonShare) : std::make_pair(1.0, 1.0);
+            double meanCacheNoise = 0;
             if (split > 0) {
                 // Two caches: their means' difference, less their batches' noise, is twice one
                 // cache's noise; the mean of both holds half of it.
@@ -482,10 +543,23 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                 double difference =
                     meanSquaredDifference(srgbCodes(meanImage(first, sampleWeights(pilot, 0, split))),
                                           srgbCodes(meanImage(second, sampleWeights(pilot, split, pilot.batches.size()))));
-                p.cacheNoise = std::max(0.0, (difference - predictedNoise(pilot, 1.0 / double(split)) -
-                                              predictedNoise(pilot, 1.0 / double(second.size()))) / 2);
+                // A photon map's noise goes as 1 / its photons: each cache's as x_j, its photons'
+                // shortfall from the render's (1 / photonShare), and the first cache's is the
+                // difference's x_1 / (x_1 + x_2) (a half with alike caches).
+                const double excess = std::max(0.0, difference - predictedNoise(pilot, 1.0 / double(split)) -
+                                                        predictedNoise(pilot, 1.0 / double(second.size())));
+                p.cacheNoise = excess * photonsShort.first / (photonsShort.first + photonsShort.second);
+                // The mean of all batches, weighed by their samples, holds w_1^2 c_1 + w_2^2 c_2 of it.
+                double firstSamples = 0, allSamples = 0;
+                for (size_t b = 0; b < pilot.batches.size(); ++b) {
+                    const double samples = pilot.batchSamples.size() == pilot.batches.size() ? pilot.batchSamples[b] : 1;
+                    allSamples += samples;
+                    if (b < split) firstSamples += samples;
+                }
+                const double w1 = firstSamples / allSamples, w2 = 1 - w1;
+                meanCacheNoise = p.cacheNoise * (w1 * w1 + w2 * w2 * photonsShort.second / photonsShort.first);
             }
-            p.bias = std::max(0.0, error - meanNoise[k] - p.cacheNoise / 2);
+            p.bias = std::max(0.0, error - meanNoise[k] - meanCacheNoise);
             // R holds part of the photon map's own blur: against the path tracer it shows whole.
             // Its radii are pixel footprints, so the pilot's are wider in the world by the pixels'
             // size ratio, and its squared blur grows with the radius: on the Cornell box at 37x28
@@ -524,6 +598,19 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             p.predictedBias = p.bias * biasShare;
             p.predictedCacheNoise = p.cacheNoise * cacheShare;
             p.predictedSampleNoise = predictedNoise(pilot, noiseShare);
+            if (photonLaw) {
+                // Each camera sample reads the photon map, so its noise falls with the photons too:
+                // a + b x, x the photons' shortfall, from the two caches' noise at the render's
+                // samples (on the Cornell box, final gathering's noise x samples was 146 at the
+                // pilot's 27,000 photons and 56 at the render's 500,000).
+                const AutoPilot first = cachePilot(pilot, 0, split), second = cachePilot(pilot, split, pilot.batches.size());
+                double meanSamples1 = 0, meanSamples2 = 0;
+                for (double samples : first.batchSamples) meanSamples1 += samples / double(first.batchSamples.size());
+                for (double samples : second.batchSamples) meanSamples2 += samples / double(second.batchSamples.size());
+                const double v1 = predictedNoise(first, noiseShare * meanSamples1 / meanSamples),
+                             v2 = predictedNoise(second, noiseShare * meanSamples2 / meanSamples);
+                p.predictedSampleNoise = noiseAtTheRendersPhotons(v1, photonsShort.first, v2, photonsShort.second);
+            }
             double mse = p.predictedBias + p.predictedCacheNoise + p.predictedSampleNoise;
             p.predictedRmse = std::sqrt(mse);
             if (p.integrator == "path") pathMse = mse;
