@@ -8,9 +8,10 @@ squared difference / 4). At the pilots' resolution it is measured twice: with th
 counts and with the counts the pilots use (scaled with the pixels). Then --repeats runs of the
 pilots themselves (`auto` with --horizon seconds of pilot time: `--auto-horizon` at spp 1), whose
 log gives each technique's predicted bias (the first of its three parts). Last, the camera
-samples' noise per sample, at the pilots' resolution, of the photon techniques' pilots against
-their photon counts (8 batches of different seeds, the pilots' noise estimator:
-renderer/auto_select.h), since the pilots trace fewer photons than the render.
+samples' noise per sample, at the pilots' resolution, of the photon techniques against their
+photon counts (one photon map: its first samples against all of them), since the pilots trace
+fewer photons than the render, and the law in the photon count the pilots fit to it
+(renderer/auto_select.h).
 All in sRGB codes squared; one run on a shared machine.
 
     .venv/bin/python bench/pilot_accuracy.py [--scene cornell] [--resolution 160 120]
@@ -33,27 +34,6 @@ PHOTON_PARAMS = ("photons", "causticPhotons", "photonsPerPass")
 def codes(img):
     from gi import metrics
     return metrics.srgb8(img).astype(np.float64)
-
-
-def window_noise(batches, q):
-    """auto_select.cpp's predictedNoise(q) of one group of batches (the 3x3 window's centre)."""
-    from gi import metrics
-    f = lambda x: metrics.srgb_encode(np.clip(x, 0, None)) * 255  # noqa: E731
-    k = len(batches)
-    total = batches.sum(0)
-    pad = np.pad(total, ((1, 1), (1, 1), (0, 0)))
-    ones = np.pad(np.ones(total.shape), ((1, 1), (1, 1), (0, 0)))
-    h, w = total.shape[:2]
-    window = sum(pad[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] for dy in (-1, 0, 1) for dx in (-1, 0, 1))
-    count = sum(ones[1 + dy:1 + dy + h, 1 + dx:1 + dx + w] for dy in (-1, 0, 1) for dx in (-1, 0, 1))
-    farthest = np.maximum(f(total / k), 255 - f(total / k))
-    acc = 0.0
-    for b in batches:
-        others = (total - b) / (k - 1)
-        centre = (window - b) / (count * k - 1)
-        deviation = np.sqrt((k - 1) / k) * (b - others)
-        acc = acc + (f(centre + q * deviation) - f(centre)) ** 2
-    return float(np.mean(np.minimum(acc / (k * q), farthest ** 2)))
 
 
 def main():
@@ -117,19 +97,35 @@ def main():
         print(f"| {t} | {row[0]:.2f} | {row[1]:.2f} | {row[2]:.2f} | "
               f"{', '.join(f'{e:.2f}' for e in estimates[t])} |", flush=True)
 
-    print(f"\nNoise per camera sample at {pilot[0]}x{pilot[1]} against photon count (the pilots' count first):")
-    print("| technique | photons | noise x samples | preprocessing |")
-    print("|---|---|---|---|")
-    for t, spp in [("photonMapFinalGather", 8), ("photonMapIrradianceCache", 32)]:
+    print(f"\nNoise per camera sample at {pilot[0]}x{pilot[1]} against photon count (the pilots' count first), "
+          "one photon map each: the squared difference of its first 1/4 of the samples and all of them, "
+          "x samples, 3 seeds; the law a + b x (x = the render's photons / the map's) through the first two:")
+    print("| technique | photons | noise x samples | a + b x | preprocessing |")
+    print("|---|---|---|---|---|")
+    for t, spp in [("photonMapFinalGather", 64), ("photonMapIrradianceCache", 256)]:
         full = defaults[t]["photons"]
-        for photons in sorted({pilot_photons(t)["photons"], full // 4, full}):
+        counts = sorted({pilot_photons(t)["photons"], full // 4, full})
+        measured = []
+        for photons in counts:
             params = {k: photons for k in ("photons", "causticPhotons")}
-            results = [render(t, pilot, seed=100 + k, spp=spp, params=params) for k in range(8)]
-            batches = np.array([np.asarray(r.color, dtype=np.float64) for r in results])
-            q = 0.05  # the delta method's regime: the render's samples are many batches'
-            pre = np.mean([r.stats["preprocess_seconds"] for r in results])
-            print(f"| {t} | {photons} | {window_noise(batches, q) * spp / q:.0f} | {pre:.2f} s |", flush=True)
-
+            noise, pre = [], []
+            for seed in range(100, 103):
+                # The same seed traces the same photon map: the first spp / 4 samples are the
+                # full render's first, so their difference is camera samples' noise alone (the
+                # photon cache's records also grow with the samples: for it, an upper bound).
+                few = render(t, pilot, seed=seed, spp=spp // 4, params=params)
+                many = render(t, pilot, seed=seed, spp=spp, params=params)
+                d = codes(np.asarray(few.color, dtype=np.float64)) - codes(np.asarray(many.color, dtype=np.float64))
+                noise.append(float(np.mean(d ** 2)) / (4 / spp - 1 / spp))
+                pre.append(many.stats["preprocess_seconds"])
+            measured.append(np.mean(noise))
+            x = [full / c for c in counts]
+            law = ""
+            if len(measured) >= 2:
+                b = (measured[0] - measured[1]) / (x[0] - x[1])
+                a = measured[1] - b * x[1]
+                law = f"{a + b * full / photons:.0f}" if b > 0 and a >= 0 else ""
+            print(f"| {t} | {photons} | {measured[-1]:.0f} | {law} | {np.mean(pre):.2f} s |", flush=True)
 
 if __name__ == "__main__":
     main()
