@@ -281,10 +281,9 @@ TEST(Auto, LearnsThePhotonMapsNoiseLaw) {
     EXPECT_NEAR(p.bias, bias * bias, 1.2);
     // Without the second cache's photon count, the old pooled estimate: about 0.35.
     photons.secondPhotonShare = 0;
-    const AutoPrediction& pooled = prediction(
-        predictFromPilots({syntheticPilot("path", 0, 2, 0.1, 62), photons}, kPilotPixels, 4.0 * kPilotPixels, 4.0),
-        "photonMapFinalGather");
-    EXPECT_GT(pooled.predictedSampleNoise, 0.3);
+    const AutoChoice pooled =
+        predictFromPilots({syntheticPilot("path", 0, 2, 0.1, 62), photons}, kPilotPixels, 4.0 * kPilotPixels, 4.0);
+    EXPECT_GT(prediction(pooled, "photonMapFinalGather").predictedSampleNoise, 0.3);
 }
 
 // The progressive photon map's pilot blurs (+-6 codes on alternate values, the image's mean kept):
