@@ -249,9 +249,10 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
                                       std::max(preprocessSeconds, 1e-4);
             const double factor = std::min(affordable, 1.0 / pilot.photonShare);
             if (factor >= 2) {
-                growPhotonCounts(info, paramsFor(integrator, settings), factor, cs.params);
+                const ParamSet renderParams = paramsFor(integrator, settings);
+                growPhotonCounts(info, renderParams, factor, cs.params);
                 grownShare = paramValue(info, cs.params, "photons") /
-                             std::max(1.0, paramValue(info, paramsFor(integrator, settings), "photons"));
+                             std::max(1.0, paramValue(info, renderParams, "photons"));
             }
         }
         Renderer renderer(scene, cs, &camera);
@@ -536,8 +537,8 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                 photonLaw ? std::make_pair(1 / pilot.photonShare, 1 / pilot.secondPhotonShare) : std::make_pair(1.0, 1.0);
             double meanCacheNoise = 0;
             if (split > 0) {
-                // Two caches: their means' difference, less their batches' noise, is twice one
-                // cache's noise; the mean of both holds half of it.
+                // Two caches: their means' difference, less their batches' noise, is both caches'
+                // noise.
                 const std::vector<std::vector<float>> first(pilot.batches.begin(), pilot.batches.begin() + long(split)),
                     second(pilot.batches.begin() + long(split), pilot.batches.end());
                 double difference =
@@ -597,12 +598,13 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             }
             p.predictedBias = p.bias * biasShare;
             p.predictedCacheNoise = p.cacheNoise * cacheShare;
-            p.predictedSampleNoise = predictedNoise(pilot, noiseShare);
-            if (photonLaw) {
+            if (!photonLaw) {
+                p.predictedSampleNoise = predictedNoise(pilot, noiseShare);
+            } else {
                 // Each camera sample reads the photon map, so its noise falls with the photons too:
                 // a + b x, x the photons' shortfall, from the two caches' noise at the render's
-                // samples (on the Cornell box, final gathering's noise x samples was 146 at the
-                // pilot's 27,000 photons and 56 at the render's 500,000).
+                // samples (on the Cornell box, final gathering's noise x samples was 157 at the
+                // pilot's 27,000 photons and 73 at the render's 500,000: bench/pilot_accuracy.py).
                 const AutoPilot first = cachePilot(pilot, 0, split), second = cachePilot(pilot, split, pilot.batches.size());
                 double meanSamples1 = 0, meanSamples2 = 0;
                 for (double samples : first.batchSamples) meanSamples1 += samples / double(first.batchSamples.size());

@@ -72,10 +72,11 @@
 // x_1 / (x_1 + x_2)), the render's c2 x_1-th of it, the mean's w_1^2 c_2 + w_2^2 c_2 x_2 / x_1
 // (w the caches' shares of the samples), and its noise(r) a + b x at x = 1 through each cache's
 // own noise at the render's samples (a >= 0). On the Cornell box at 37x28 (one photon map, the
-// samples' noise x samples from 16 against 64 samples, 3 seeds), final gathering's was 149, 89
-// and 66 at 27,000 (the pilots'), 118,000 and 500,000 photons (the render's), the photon cache's
-// 194, 87 and 33: a + b x through the first two gives 75 and 62 at the render's photons, where
-// the pilots' 27,000 alone gave 149 and 194. Over 6 runs of the pilots at 60 s final gathering's
+// samples' noise x samples from a quarter of the samples against all, 3 seeds;
+// bench/pilot_accuracy.py), final gathering's was 157, 97 and 73 at 27,000 (the pilots'), 125,000
+// and 500,000 photons (the render's), the photon cache's 207, 86 and 33: a + b x through the
+// first two gives 85 and 61 at the render's photons, where the pilots' 27,000 alone gave 157 and
+// 207. Over 6 runs of the pilots at 60 s final gathering's
 // predicted sample noise went from 0.73 to 1.24 (pooled) to 0.43 to 0.86 (this law), for about
 // 0.33 reached: the caches' 4 batches each are noisy inputs.
 // R weighs the progressive photon map's pilot by its noise and its blur (its difference from the
