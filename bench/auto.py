@@ -8,7 +8,7 @@ and mean FLIP against the reference, auto's choice and pilot seconds, and auto's
 best single technique's (the goal: at most 1.10, in both metrics) and over the path tracer's (at
 most 1.00). Figures are from one run on a shared machine: compare within a table.
 
-    .venv/bin/python bench/auto.py [--scenes cornell,room,room-sky,sponza,sibenik,sibenik-portals]
+    .venv/bin/python bench/auto.py [--scenes cornell,room,room-sky,sponza,sibenik,sibenik-portals,sibenik-windows]
         [--budgets 10,60] [--resolution 160 120] [--reference-seconds 120]
 """
 import argparse
@@ -25,6 +25,7 @@ SCENES = {"cornell": (ROOT / "scenes/cornell/cornell.usda", False),
           "room-sky": (ROOT / "scenes/window_room/window_room_sky.usda", False),
           "sponza": (ROOT / "scenes/sponza/sponza.usda", False),
           "sibenik": (ROOT / "scenes/sibenik/sibenik_sky.usda", True),
+          "sibenik-windows": (ROOT / "scenes/sibenik/sibenik.usda", True),
           "sibenik-portals": (ROOT / "scenes/sibenik/sibenik_sky_portals.usda", True)}
 GOAL_OVER_BEST, GOAL_OVER_PATH = 1.10, 1.00
 
