@@ -3,10 +3,11 @@ Hydra's sync (the first Render call), hdGi's scene build (Embree BVH included), 
 first pixels (a low-resolution preview in views of 256x256 and more) and to the first full pass,
 and the wall time of a converged render through UsdImagingGL (usdrecord's engine) against
 `gi render` with the same integrator, samples, seed and resolution; the ratio is the cost of the
-Hydra path (target: at most 1.10). Then, per scene, an interactive edit: the stage's first mesh
-moved three times in one session, with the scene build, the BVH primitives built and kept, and the
-times to the first new pixels and the first new pass after each move (the first move gathers what did not move into one
-static BVH; later moves build the moved mesh alone). With --usdview, also usdview itself (under
+Hydra path (target: at most 1.10). Then, per scene, interactive edits of the stage's first mesh:
+moved three times in one session, hidden and shown again, bound to another material and back,
+with the scene build, the BVH primitives built, kept and masked, and the times to the first new
+pixels and the first new pass after each (an edit builds what it changed alone and masks its old
+self in the BVH it keeps). With --usdview, also usdview itself (under
 xvfb-run, Mesa's software OpenGL): the viewport's size and, for the render it starts on opening each
 scene with Gi's defaults, the times to the first pixels and the first full pass, and how long the
 render before it ran (usdview resizes its viewport after its first draw, which restarts the render).
@@ -84,15 +85,19 @@ def main():
         print(f"{Path(scene).name:28} {h['open_seconds']:7.2f} {h['sync_seconds']:7.2f} "
               f"{float(s.get('sceneBuildSeconds', 0)):8.2f} {float(s.get('firstPixelSeconds', 0)):8.2f} "
               f"{float(s.get('firstPassSeconds', 0)):8.2f} {h['wall_seconds']:8.2f} {g:7.2f} {h['wall_seconds'] / g:6.2f}")
-    print(f"\n{'scene: one mesh moved':28} {'edit':>6} {'build s':>8} {'built':>9} {'kept':>9} {'1st px s':>9} {'1st pass s':>10}")
+    print(f"\n{'scene: one mesh edited':28} {'edit':>8} {'build s':>8} {'built':>9} {'kept':>9} {'masked':>7} "
+          f"{'1st px s':>9} {'1st pass s':>10}")
     for scene in args.scenes:
         h = hydra(ROOT / scene, args.width, args.integrator, 1, "move")
         rows = [("load", h["stats"])] + [(f"move {i + 1}", s) for i, s in enumerate(h["stats_after_moves"])]
+        for edit, labels in (("hide", ("hide", "show")), ("material", ("rebind", "restore"))):
+            e = hydra(ROOT / scene, args.width, args.integrator, 1, edit)
+            rows += list(zip(labels, e["stats_after_edits"]))
         for edit, s in rows:
-            print(f"{Path(scene).name + ' ' + h['moved'].split('/')[-1]:28.28} {edit:>6} "
+            print(f"{Path(scene).name + ' ' + h['moved'].split('/')[-1]:28.28} {edit:>8} "
                   f"{float(s.get('sceneBuildSeconds', 0)):8.3f} {int(s.get('primitivesBuilt', 0)):9,} "
-                  f"{int(s.get('primitivesReused', 0)):9,} {float(s.get('firstPixelSeconds', 0)):9.3f} "
-                  f"{float(s.get('firstPassSeconds', 0)):10.3f}")
+                  f"{int(s.get('primitivesReused', 0)):9,} {int(s.get('primitivesMasked', 0)):7,} "
+                  f"{float(s.get('firstPixelSeconds', 0)):9.3f} {float(s.get('firstPassSeconds', 0)):10.3f}")
     if not args.usdview:
         return
     if not shutil.which("xvfb-run"):

@@ -82,9 +82,11 @@ VtDictionary HdGiRenderDelegate::GetRenderStats() const {
     // rebuilds the scene; unchanged files come from the session's image cache).
     stats["textures"] = s.textures;
     stats["texturesRead"] = s.texturesRead;
-    // The last build's BVH work: an edit builds only what it changed (gi::Scene::reuseBvhOf).
+    // The last build's BVH work: an edit builds only what it changed (gi::Scene::reuseBvhOf), and
+    // masks the old selves of what it changed in the BVH it keeps.
     stats["primitivesBuilt"] = s.primitivesBuilt;
     stats["primitivesReused"] = s.primitivesReused;
+    stats["primitivesMasked"] = s.primitivesMasked;
     stats["portals"] = s.portals;
     // usdview's HUD shows this key.
     stats["percentDone"] = s.targetSamples > 0 ? 100.0 * s.samples / s.targetSamples : 0.0;

@@ -86,6 +86,7 @@ bool HdGiRenderSession::_Render(HdGiRenderJob const& job, bool showsAovs, bool l
     stats.texturesRead = int(_scene->stats().texturesRead);
     stats.primitivesBuilt = double(_scene->stats().primitivesBuilt);
     stats.primitivesReused = double(_scene->stats().primitivesReused);
+    stats.primitivesMasked = double(_scene->stats().primitivesMasked);
     stats.portals = int(_scene->stats().portals);
 
     gi::RenderSettings settings = job.settings;

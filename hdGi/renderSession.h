@@ -56,7 +56,7 @@ struct HdGiSessionStats {
     double lastTileTime = 0;  // steady_clock seconds: when the renderer last finished a tile
     int textures = 0, texturesRead = 0;  // bound by the last scene build; of them read from disk
     // The last scene build's BVH work: triangles and spheres built, and kept from the scene before.
-    double primitivesBuilt = 0, primitivesReused = 0;
+    double primitivesBuilt = 0, primitivesReused = 0, primitivesMasked = 0;
     int portals = 0;  // UsdLux portal lights in use (renderer/portal.h)
     int samples = 0, targetSamples = 0;
     uint64_t rays = 0;

@@ -181,7 +181,7 @@ std::unique_ptr<gi::Scene> HdGiSceneStore::Build(HdGiIdMap* ids, bool domeLightC
         materials = _materials;
     }
     auto scene = std::make_unique<gi::Scene>();
-    if (previous) scene->reuseBvhOf(*previous);
+    if (previous) scene->reuseBvhOf(*previous, gi::Scene::BvhReuse::Edits);
     scene->shareImages(_images);
     MaterialBinder binder(*scene, materials);
     HdGiIdMap map;

@@ -401,16 +401,8 @@ void Scene::commit() {
     for (size_t i = 0; i < shapes_.size(); ++i) fingerprints[i] = fingerprint(shapes_[i]);
     top_ = rtcNewScene(device_->device);
     rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneFlags(top_, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);  // the next scene may mask it (topLevelAsBvh)
     for (int i : buildStaticBvh(fingerprints)) buildShapeGeometry(top_, topGeomToShape_, i);
-    if (staticBvh_) {  // identity-instanced: its hits are the top level's (hitShape)
-        RTCGeometry g = rtcNewGeometry(device_->device, RTC_GEOMETRY_TYPE_INSTANCE);
-        rtcSetGeometryInstancedScene(g, staticBvh_->rtc);
-        const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, identity);
-        rtcCommitGeometry(g);
-        staticBvhGeom_ = rtcAttachGeometry(top_, g);
-        rtcReleaseGeometry(g);
-    }
     std::map<std::string, int> prototypeUses;
     for (const Prototype& p : prototypes_) prototypeUses[p.name]++;
     for (Prototype& p : prototypes_) {
@@ -449,23 +441,44 @@ void Scene::commit() {
         if (topGeomToShape_.size() <= geomId) topGeomToShape_.resize(geomId + 1, -1);
         topGeomToShape_[geomId] = -int(i) - 1;
     }
+    // With motion, bounds over the whole shutter: the union of the linear bounds at open and at
+    // close. Without, the scene's bounds (so that a scene where nothing moves is unchanged).
+    auto topBounds = [&](Vec3& lo, Vec3& hi) {
+        RTCBounds b;
+        rtcGetSceneBounds(top_, &b);
+        lo = Vec3(b.lower_x, b.lower_y, b.lower_z), hi = Vec3(b.upper_x, b.upper_y, b.upper_z);
+        if (hasMotion()) {
+            RTCLinearBounds linear;
+            rtcGetSceneLinearBounds(top_, &linear);
+            lo = vmin(Vec3(linear.bounds0.lower_x, linear.bounds0.lower_y, linear.bounds0.lower_z),
+                      Vec3(linear.bounds1.lower_x, linear.bounds1.lower_y, linear.bounds1.lower_z));
+            hi = vmax(Vec3(linear.bounds0.upper_x, linear.bounds0.upper_y, linear.bounds0.upper_z),
+                      Vec3(linear.bounds1.upper_x, linear.bounds1.upper_y, linear.bounds1.upper_z));
+        }
+    };
+    Vec3 lo(kInf), hi(-kInf);
+    if (staticBvh_) {
+        // A static BVH with masks bounds shapes this scene does not have: the scene's bounds are
+        // those of the rest and of the shapes it keeps there, as the scene built alone has them.
+        if (!staticMasked_.empty()) {
+            rtcCommitScene(top_);
+            topBounds(lo, hi);
+            for (int shape : staticBvhToShape_)
+                if (shape >= 0) growByShape(shapes_[size_t(shape)], lo, hi);
+        }
+        // Identity-instanced: its hits are the top level's (hitShape).
+        RTCGeometry g = rtcNewGeometry(device_->device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, staticBvh_->rtc);
+        const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, identity);
+        rtcCommitGeometry(g);
+        staticBvhGeom_ = rtcAttachGeometry(top_, g);
+        rtcReleaseGeometry(g);
+    }
     rtcCommitScene(top_);
     stats_.instances = instances_.size();
     stats_.prototypes = prototypes_.size();
-
-    // With motion, bounds over the whole shutter: the union of the linear bounds at open and at
-    // close. Without, the scene's bounds (so that a scene where nothing moves is unchanged).
-    RTCBounds b;
-    rtcGetSceneBounds(top_, &b);
-    Vec3 lo(b.lower_x, b.lower_y, b.lower_z), hi(b.upper_x, b.upper_y, b.upper_z);
-    if (hasMotion()) {
-        RTCLinearBounds linear;
-        rtcGetSceneLinearBounds(top_, &linear);
-        lo = vmin(Vec3(linear.bounds0.lower_x, linear.bounds0.lower_y, linear.bounds0.lower_z),
-                  Vec3(linear.bounds1.lower_x, linear.bounds1.lower_y, linear.bounds1.lower_z));
-        hi = vmax(Vec3(linear.bounds0.upper_x, linear.bounds0.upper_y, linear.bounds0.upper_z),
-                  Vec3(linear.bounds1.upper_x, linear.bounds1.upper_y, linear.bounds1.upper_z));
-    }
+    if (staticMasked_.empty()) topBounds(lo, hi);
     if (isFinite(lo) && isFinite(hi) && hi.x >= lo.x) {
         boundsMin_ = lo;
         boundsMax_ = hi;
@@ -747,6 +760,36 @@ void Scene::intersectAnalyticLights(const Ray& ray, bool cameraRay, Intersection
     }
 }
 
+void Scene::initMaskContext(MaskContext& context, bool skipsMasked) const {
+    rtcInitIntersectContext(&context.embree);
+    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    if (skipsMasked) context.embree.filter = skipMasked;
+    context.scene = this;
+}
+
+bool Scene::mayHitMasked(const Vec3& origin, const Vec3& dir, float distance) const {
+    for (const Bounds& b : maskedBounds_) {
+        // Slabs; a NaN from 0 * inf (a ray in a slab's plane) keeps the interval as it is.
+        float t0 = 0, t1 = distance;
+        for (int a = 0; a < 3; ++a) {
+            float inv = 1 / dir[a], near = (b.lo[a] - origin[a]) * inv, far = (b.hi[a] - origin[a]) * inv;
+            if (near > far) std::swap(near, far);
+            t0 = near > t0 ? near : t0;
+            t1 = far < t1 ? far : t1;
+        }
+        if (t0 <= t1 * (1 + 1e-5f)) return true;
+    }
+    return false;
+}
+
+void Scene::skipMasked(const RTCFilterFunctionNArguments* args) {
+    const Scene* scene = reinterpret_cast<const MaskContext*>(args->context)->scene;
+    for (unsigned i = 0; i < args->N; ++i)
+        if (args->valid[i] && RTCHitN_instID(args->hit, args->N, i, 0) == scene->staticBvhGeom_ &&
+            scene->staticMasked_[RTCHitN_geomID(args->hit, args->N, i)])
+            args->valid[i] = 0;
+}
+
 Intersection Scene::intersect(const Ray& ray, RayStats& stats, bool cameraRay) const {
     return finish(ray, trace(ray, stats, cameraRay));
 }
@@ -758,12 +801,12 @@ Scene::PendingHit Scene::trace(const Ray& ray, RayStats& stats, bool cameraRay) 
     // behaviour on it is undefined (its debug builds assert).
     if (!embreeValid(ray.o) || !embreeValid(ray.d) || std::isnan(ray.tMin) || std::isnan(ray.tMax)) return pending;
     if (stats.record) stats.record->push_back({ray.o, ray.d, ray.tMin, ray.tMax, false, ray.time});
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    // A ray that may meet masked shapes skips them by Embree's filter; only those rays pay for it.
+    MaskContext context;
+    initMaskContext(context, !staticMasked_.empty() && mayHitMasked(ray.o, ray.d, ray.tMax));
     RTCRayHit& rh = pending.rh;
     rh = toEmbreeRayHit(ray.o, ray.d, ray.tMin, ray.tMax, ray.time);
-    rtcIntersect1(top_, &context, &rh);
+    rtcIntersect1(top_, &context.embree, &rh);
     Intersection& result = pending.hit;
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
         result.kind = Intersection::Kind::Surface;
@@ -806,11 +849,10 @@ bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RaySta
     ++stats.rays;
     if (!embreeValid(origin) || !embreeValid(dir) || std::isnan(distance)) return true;  // no light along a NaN ray
     if (stats.record) stats.record->push_back({origin, dir, 0, distance, true, time});
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    MaskContext context;
+    initMaskContext(context, !staticMasked_.empty() && mayHitMasked(origin, dir, distance));
     RTCRay r = toEmbreeRay(origin, dir, 0, distance, time);
-    rtcOccluded1(top_, &context, &r);
+    rtcOccluded1(top_, &context.embree, &r);
     return r.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 

@@ -90,7 +90,13 @@ public:
     // points and indices; not moving) go into one static BVH, built once and reused by every later
     // scene while they stay the same; a prototype whose shapes are all the same keeps its BVH. Only
     // what changed is built. The image is the one this scene gives built alone. Call before commit.
-    void reuseBvhOf(const Scene& previous);
+    // BvhReuse::Edits (an interactive host) also keeps a static BVH that holds shapes changed
+    // since, masking their old selves (buildStaticBvh): an edit's first pixels come without a
+    // rebuild; while masks stand, rays run up to 12% slower and a few pixels may differ from the
+    // scene built alone's bits (README, "Edits build only what they change"). Frames (a sequence,
+    // where a frame's render outweighs its build) rebuilds it instead, as soon as one changed.
+    enum class BvhReuse { Frames, Edits };
+    void reuseBvhOf(const Scene& previous, BvhReuse reuse = BvhReuse::Frames);
     void commit();
     bool committed() const { return committed_; }
 
@@ -151,8 +157,9 @@ public:
         size_t movingLights = 0;  // area lights moving during the shutter (moving_light.h)
         size_t texturesRead = 0;  // of `textures`, read from disk (the rest came from a shared ImageCache)
         double buildSeconds = 0;
-        // BVH work of commit(): triangles and spheres built, and taken from the previous scene.
-        size_t primitivesBuilt = 0, primitivesReused = 0;
+        // BVH work of commit(): triangles and spheres built, and taken from the previous scene;
+        // of those taken, the ones this scene masks (shapes it no longer has as they were).
+        size_t primitivesBuilt = 0, primitivesReused = 0, primitivesMasked = 0;
     };
     const Stats& stats() const { return stats_; }
     // Textures come from (and go to) `images`, shared with other scenes, instead of this scene's
@@ -208,6 +215,31 @@ private:
                                          const std::shared_ptr<const Bvh>& previous);
     // commit()'s top level: the static BVH (reused or built) and the shapes left out of it.
     std::vector<int> buildStaticBvh(const std::vector<uint64_t>& fingerprints);
+    // A reused static BVH is rebuilt once the shapes it masks hold more than this share of its
+    // primitives (their traversal is wasted work for every ray).
+    static constexpr double kMaskedShare = 0.25;
+    // This committed scene's top level as the next scene's static BVH, when it holds static
+    // shapes alone (no instances, no static BVH of its own); null otherwise.
+    std::shared_ptr<const Bvh> topLevelAsBvh() const;
+    // Embree's context filter for rays that met masked geometry: skips hits on it.
+    static void skipMasked(const RTCFilterFunctionNArguments* args);
+    struct MaskContext {
+        RTCIntersectContext embree;  // first: Embree hands the filter this pointer
+        const Scene* scene;
+    };
+    void initMaskContext(MaskContext& context, bool skipsMasked) const;
+    // Grows [lo, hi] by a static shape's primitives, as Embree bounds them.
+    static void growByShape(const Shape& shape, Vec3& lo, Vec3& hi);
+    struct Bounds {
+        Vec3 lo{kInf}, hi{-kInf};
+    };
+    static Bounds shapeBounds(const Shape& shape) {
+        Bounds b;
+        growByShape(shape, b.lo, b.hi);
+        return b;
+    }
+    // Whether the segment [origin, origin + distance dir] crosses a masked shape's bounds.
+    bool mayHitMasked(const Vec3& origin, const Vec3& dir, float distance) const;
     void countShapes();
     // The validated steps of a mesh's motion, or empty (warned about when unusable); `transforms`:
     // the per-step transforms baked into them (empty when the static one was).
@@ -236,7 +268,9 @@ private:
     std::map<std::string, uint64_t> topFingerprints_;  // static top-level shapes with a name of their own
     std::shared_ptr<const Bvh> staticBvh_;  // top-level shapes unchanged since the previous scene
     unsigned staticBvhGeom_ = RTC_INVALID_GEOMETRY_ID;  // its instance in top_
-    std::vector<int> staticBvhToShape_;               // its geometry ids -> shapes
+    std::vector<int> staticBvhToShape_;               // its geometry ids -> shapes (-1: masked)
+    std::vector<uint8_t> staticMasked_;  // by its geometry id: 1 for a shape this scene does not have; empty if none
+    std::vector<Bounds> maskedBounds_;   // the masked shapes' (their union past a few)
     std::vector<Shape> shapes_;
     std::vector<Prototype> prototypes_;
     std::vector<Instance> instances_;

@@ -20,6 +20,8 @@ struct Scene::Bvh {
     std::vector<std::string> names;      // the shapes', by geometry id
     std::vector<uint64_t> fingerprints;  // the shapes', by geometry id (Scene::fingerprint)
     size_t primitives = 0;               // triangles and spheres
+    std::vector<size_t> geometryPrimitives;  // by geometry id
+    std::vector<Bounds> geometryBounds;      // by geometry id (Scene::growByShape)
     Bvh() = default;
     Bvh(const Bvh&) = delete;
     Bvh& operator=(const Bvh&) = delete;
@@ -31,6 +33,8 @@ struct Scene::Bvh {
 struct Scene::Previous {
     std::map<std::string, uint64_t> topFingerprints;
     std::shared_ptr<const Bvh> staticBvh;
+    std::shared_ptr<const Bvh> topLevel;  // its top level, when it held static shapes alone (topLevelAsBvh)
+    bool masks = false;                   // BvhReuse::Edits: a kept static BVH may mask shapes
     std::map<std::string, std::shared_ptr<const Bvh>> prototypes;  // by name
 };
 

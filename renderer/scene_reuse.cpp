@@ -4,6 +4,7 @@
 // host does not announce is still caught. Materials, normals and uvs are not BVH inputs: shading
 // reads them from the new scene's own shapes.
 #include <cstring>
+#include <set>
 #include <stdexcept>
 
 #include "scene_bvh.h"
@@ -68,7 +69,7 @@ uint64_t Scene::fingerprint(const Shape& s) {
     return h.value();
 }
 
-void Scene::reuseBvhOf(const Scene& previous) {
+void Scene::reuseBvhOf(const Scene& previous, BvhReuse reuse) {
     if (committed_) throw std::logic_error("reuseBvhOf: the scene is committed already");
     if (!previous.committed_ || &previous == this) return;  // nothing built to take
     // A BVH can only be instanced within its own device; nothing of this scene's is built yet.
@@ -77,6 +78,8 @@ void Scene::reuseBvhOf(const Scene& previous) {
     previous_ = std::make_unique<Previous>();
     previous_->topFingerprints = previous.topFingerprints_;
     previous_->staticBvh = previous.staticBvh_;
+    previous_->topLevel = previous.topLevelAsBvh();
+    previous_->masks = reuse == BvhReuse::Edits;
     std::map<std::string, int> uses;
     for (const Prototype& p : previous.prototypes_) uses[p.name]++;
     for (const Prototype& p : previous.prototypes_)
@@ -98,12 +101,16 @@ std::shared_ptr<const Scene::Bvh> Scene::shapesBvh(const std::vector<int>& shape
     auto bvh = std::make_shared<Bvh>();
     bvh->rtc = rtcNewScene(device_->device);
     rtcSetSceneBuildQuality(bvh->rtc, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneFlags(bvh->rtc, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);  // masks (buildStaticBvh)
     size_t builtBefore = stats_.primitivesBuilt;
     std::vector<int> geomToShape;
     for (int s : shapes) {
+        size_t before = stats_.primitivesBuilt;
         buildShapeGeometry(bvh->rtc, geomToShape, s);
         bvh->names.push_back(shapes_[s].name);
         bvh->fingerprints.push_back(fingerprints[s]);
+        bvh->geometryPrimitives.push_back(stats_.primitivesBuilt - before);
+        bvh->geometryBounds.push_back(shapeBounds(shapes_[s]));
     }
     // Embree numbers a new scene's geometries 0, 1, ... in attach order: geometry id i is shapes[i].
     if (geomToShape != shapes) throw std::logic_error("Embree geometry ids out of attach order");
@@ -125,30 +132,69 @@ std::vector<int> Scene::buildStaticBvh(const std::vector<uint64_t>& fingerprints
         if (isStatic(i)) topFingerprints_[shapes_[i].name] = fingerprints[i];
     if (!previous_) return top;  // a scene built alone: every shape in the top level, as always
 
-    std::map<std::string, int> unchanged;  // by name
+    // The previous static BVH (or the previous scene's top level, when it held shapes alone),
+    // kept while it holds only shapes this scene has as they were; or, for edits, with those it
+    // no longer has so (moved, edited, hidden, removed) masked: hits on them are skipped
+    // (Scene::trace), and the shapes that changed are built in the top level. So an edit builds
+    // only what it changed, until the masked primitives pass kMaskedShare of the BVH's.
+    if (const std::shared_ptr<const Bvh>& base = previous_->staticBvh ? previous_->staticBvh : previous_->topLevel) {
+        std::map<std::string, int> staticByName;
+        for (int i : top)
+            if (isStatic(i)) staticByName[shapes_[i].name] = i;
+        std::vector<int> toShape(base->names.size(), -1);
+        size_t masked = 0;
+        bool anyKept = false;
+        for (size_t g = 0; g < base->names.size(); ++g) {
+            auto it = staticByName.find(base->names[g]);
+            if (it != staticByName.end() && fingerprints[it->second] == base->fingerprints[g]) {
+                toShape[g] = it->second;
+                anyKept = true;
+            } else {
+                masked += base->geometryPrimitives[g];
+            }
+        }
+        if (anyKept && double(masked) <= (previous_->masks ? kMaskedShare * double(base->primitives) : 0.0)) {
+            staticBvh_ = base;
+            staticBvhToShape_ = toShape;
+            if (masked > 0) {
+                staticMasked_.assign(toShape.size(), 0);
+                for (size_t g = 0; g < toShape.size(); ++g)
+                    if (toShape[g] < 0) staticMasked_[g] = 1, maskedBounds_.push_back(base->geometryBounds[g]);
+                // Shadow rays test these bounds before they take the filter; past a few, their union.
+                constexpr size_t kMaskedBoundsTested = 8;
+                if (maskedBounds_.size() > kMaskedBoundsTested) {
+                    Bounds all;
+                    for (const Bounds& b : maskedBounds_) all.lo = vmin(all.lo, b.lo), all.hi = vmax(all.hi, b.hi);
+                    maskedBounds_ = {all};
+                }
+                // Padded well past the float error of a hit on their surfaces: a miss of the box
+                // must be a miss of the shape.
+                for (Bounds& b : maskedBounds_) {
+                    Vec3 pad(1e-4f * (maxComponent(vmax(vmax(b.lo, -b.lo), vmax(b.hi, -b.hi))) + maxComponent(b.hi - b.lo)));
+                    b.lo = b.lo - pad, b.hi = b.hi + pad;
+                }
+            }
+            stats_.primitivesReused += base->primitives - masked;
+            stats_.primitivesMasked = masked;
+            std::vector<bool> inStatic(shapes_.size(), false);
+            for (int i : toShape)
+                if (i >= 0) inStatic[size_t(i)] = true;
+            std::vector<int> loose;
+            for (int i : top)
+                if (!inStatic[size_t(i)]) loose.push_back(i);
+            return loose;
+        }
+    }
+    // Else a new static BVH of the shapes unchanged since the previous scene (built once, then
+    // kept while they stay so).
+    std::vector<int> members;
     for (int i : top) {
         auto it = previous_->topFingerprints.find(shapes_[i].name);
         if (isStatic(i) && it != previous_->topFingerprints.end() && it->second == fingerprints[i])
-            unchanged[shapes_[i].name] = i;
+            members.push_back(i);
     }
-    if (unchanged.empty()) return top;
-    // The previous static BVH while all of its shapes are here unchanged; else a new one of the
-    // shapes unchanged since the previous scene (built once, then kept while they stay so).
-    std::vector<int> members;
-    if (const std::shared_ptr<const Bvh>& previous = previous_->staticBvh) {
-        for (const std::string& name : previous->names) {
-            auto it = unchanged.find(name);
-            if (it == unchanged.end()) {
-                members.clear();
-                break;
-            }
-            members.push_back(it->second);
-        }
-    }
-    if (members.empty())
-        for (int i : top)
-            if (unchanged.count(shapes_[i].name)) members.push_back(i);
-    staticBvh_ = shapesBvh(members, fingerprints, previous_->staticBvh);
+    if (members.empty()) return top;
+    staticBvh_ = shapesBvh(members, fingerprints, nullptr);
     staticBvhToShape_ = members;
     std::vector<bool> inStatic(shapes_.size(), false);
     for (int i : members) inStatic[size_t(i)] = true;
@@ -156,6 +202,41 @@ std::vector<int> Scene::buildStaticBvh(const std::vector<uint64_t>& fingerprints
     for (int i : top)
         if (!inStatic[size_t(i)]) loose.push_back(i);
     return loose;
+}
+
+void Scene::growByShape(const Shape& shape, Vec3& lo, Vec3& hi) {
+    if (shape.isSphere) {  // as Embree's sphere points: centre -+ radius
+        lo = vmin(lo, shape.center - Vec3(shape.radius));
+        hi = vmax(hi, shape.center + Vec3(shape.radius));
+        return;
+    }
+    for (uint32_t index : shape.indices) {  // the triangles' corners, not every point
+        lo = vmin(lo, shape.positions[index]);
+        hi = vmax(hi, shape.positions[index]);
+    }
+}
+
+std::shared_ptr<const Scene::Bvh> Scene::topLevelAsBvh() const {
+    // Only a top level of static shapes with names of their own: an instance in it would be an
+    // instance within an instance (Embree here allows one level), and a name must find its shape.
+    if (!instances_.empty() || staticBvh_) return nullptr;
+    auto bvh = std::make_shared<Bvh>();
+    std::set<std::string> names;
+    for (int shape : topGeomToShape_) {
+        if (shape < 0) return nullptr;
+        const Shape& s = shapes_[size_t(shape)];
+        // topFingerprints_ holds the static shapes with a name of their own.
+        auto fingerprint = topFingerprints_.find(s.name);
+        if (fingerprint == topFingerprints_.end() || !names.insert(s.name).second) return nullptr;
+        bvh->names.push_back(s.name);
+        bvh->fingerprints.push_back(fingerprint->second);
+        bvh->geometryPrimitives.push_back(s.isSphere ? 1 : s.indices.size() / 3);
+        bvh->primitives += bvh->geometryPrimitives.back();
+        bvh->geometryBounds.push_back(shapeBounds(s));
+    }
+    rtcRetainScene(top_);
+    bvh->rtc = top_;
+    return bvh;
 }
 
 void Scene::countShapes() {

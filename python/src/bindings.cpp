@@ -266,13 +266,14 @@ void bindScene(nb::module_& m) {
         .def("set_camera", [](Scene& s, const CameraDesc& d) { requireBuilding(s); s.setCamera(d); })
         .def(
             "reuse_bvh_of",
-            [](Scene& s, const Scene& previous) {
+            [](Scene& s, const Scene& previous, bool edits) {
                 requireBuilding(s);
-                s.reuseBvhOf(previous);
+                s.reuseBvhOf(previous, edits ? Scene::BvhReuse::Edits : Scene::BvhReuse::Frames);
             },
-            "previous"_a,
+            "previous"_a, "edits"_a = false,
             "Build only the BVHs of what changed since `previous` (the last frame's committed scene; "
-            "Scene::reuseBvhOf). Call before commit.")
+            "Scene::reuseBvhOf). edits: keep a static BVH whose shapes changed, masking them (an "
+            "interactive host's edits), instead of rebuilding it. Call before commit.")
         .def("commit", [](Scene& s) { nb::gil_scoped_release release; s.commit(); })
         .def("warnings", &Scene::warnings)
         .def("stats", [](const Scene& s) {
@@ -289,6 +290,7 @@ void bindScene(nb::module_& m) {
                                             {"build_seconds", st.buildSeconds},
                                             {"primitives_built", double(st.primitivesBuilt)},
                                             {"primitives_reused", double(st.primitivesReused)},
+                                            {"primitives_masked", double(st.primitivesMasked)},
                                             {"moving_shapes", double(st.movingShapes)},
                                             {"moving_instances", double(st.movingInstances)},
                                             {"moving_lights", double(st.movingLights)},

@@ -118,3 +118,122 @@ TEST(SceneReuse, SharedNamesAndMovingShapesAreAlwaysBuilt) {
     EXPECT_EQ(third->stats().primitivesReused, 0u);
     EXPECT_EQ(third->stats().movingShapes, 1u);
 }
+
+namespace {
+
+constexpr int kTiles = 8;
+constexpr size_t kRoomPrimitives = 2 * 5 + 2 * kTiles + 1;  // floor, four walls, the tiles, the ball
+
+// A room of static shapes alone (no instances): its top level is the next scene's static BVH.
+// `raised` lifts one tile by 0.3, `hidden` leaves one out (-1: none); `floorY` moves the floor.
+std::unique_ptr<Scene> tiledRoom(const Scene* previous, int raised = -1, int hidden = -1, float floorY = 0,
+                                 bool ball = true, Scene::BvhReuse reuse = Scene::BvhReuse::Edits) {
+    auto s = std::make_unique<Scene>();
+    if (previous) s->reuseBvhOf(*previous, reuse);
+    int white = s->addMaterial(lambert(Color(0.7f)));
+    int red = s->addMaterial(lambert(Color(0.7f, 0.2f, 0.2f)));
+    addQuad(*s, "/Floor", {-1, floorY, -1}, {-1, floorY, 1}, {1, floorY, 1}, {1, floorY, -1}, white);
+    addQuad(*s, "/Back", {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, white);
+    addQuad(*s, "/Front", {-1, 0, 1}, {-1, 2, 1}, {1, 2, 1}, {1, 0, 1}, white);
+    addQuad(*s, "/Left", {-1, 0, -1}, {-1, 2, -1}, {-1, 2, 1}, {-1, 0, 1}, red);
+    addQuad(*s, "/Right", {1, 0, -1}, {1, 0, 1}, {1, 2, 1}, {1, 2, -1}, red);
+    for (int t = 0; t < kTiles; ++t) {
+        if (t == hidden) continue;
+        float x = -0.9f + 0.22f * float(t), y = 0.05f + (t == raised ? 0.3f : 0.0f);
+        const std::string name = "/Tile" + std::to_string(t);
+        addQuad(*s, name.c_str(), {x, y, -0.1f}, {x, y, 0.1f}, {x + 0.15f, y, 0.1f}, {x + 0.15f, y, -0.1f}, red);
+    }
+    if (ball) s->addSphere("/Ball", Vec3(0.3f, 0.4f, 0.4f), 0.25f, white, nullptr, -1);
+    s->addLight(sphereLight("/Light", {0, 1.7f, 0}, 0.2f, 30));
+    s->setCamera(lookingDown({0, 1.9f, 0}, false, 70));
+    return s;
+}
+
+// The scene built after `previous` renders, and bounds itself, as the same scene built alone.
+void expectAsBuiltAlone(Scene& reused, Scene& alone) {
+    for (auto bound : {&Scene::boundsMin, &Scene::boundsMax}) {
+        Vec3 a = (reused.*bound)(), b = (alone.*bound)();
+        EXPECT_TRUE(a.x == b.x && a.y == b.y && a.z == b.z);
+    }
+    EXPECT_EQ(image(reused), image(alone));
+    EXPECT_EQ(renderImage(reused, "progressivePhotonMap", 16, 2), renderImage(alone, "progressivePhotonMap", 16, 2));
+}
+
+}  // namespace
+
+TEST(SceneReuse, AnEditBuildsOnlyWhatChangedAndMasksItsOldSelf) {
+    auto first = tiledRoom(nullptr);
+    first->commit();
+    EXPECT_EQ(first->stats().primitivesBuilt, kRoomPrimitives);
+    // The first edit: the previous top level becomes the static BVH, the raised tile's old self
+    // masked in it; only the tile is built.
+    auto second = tiledRoom(first.get(), 3);
+    second->commit();
+    EXPECT_EQ(second->stats().primitivesBuilt, 2u);
+    EXPECT_EQ(second->stats().primitivesReused, kRoomPrimitives - 2);
+    EXPECT_EQ(second->stats().primitivesMasked, 2u);
+    first.reset();  // the BVH taken outlives the scene it came from
+    auto alone = tiledRoom(nullptr, 3);
+    alone->commit();
+    expectAsBuiltAlone(*second, *alone);
+    // Hiding another tile builds nothing new but the raised tile (in the top level); a ray where
+    // the hidden tile was reaches the floor.
+    auto third = tiledRoom(second.get(), 3, 5);
+    third->commit();
+    EXPECT_EQ(third->stats().primitivesBuilt, 2u);
+    EXPECT_EQ(third->stats().primitivesMasked, 4u);
+    RayStats st;
+    const float x5 = -0.9f + 0.22f * 5 + 0.07f;
+    Intersection hit = third->intersect(Ray{Vec3(x5, 1, 0), Vec3(0, -1, 0), 0, kInf}, st);
+    ASSERT_EQ(hit.kind, Intersection::Kind::Surface);
+    EXPECT_EQ(third->shapeName(hit.si.shapeId), "/Floor");
+    Intersection occluder = third->intersect(Ray{Vec3(x5 - 0.22f, 1, 0), Vec3(0, -1, 0), 0, kInf}, st);
+    ASSERT_EQ(occluder.kind, Intersection::Kind::Surface);
+    EXPECT_EQ(third->shapeName(occluder.si.shapeId), "/Tile4");
+    EXPECT_FALSE(third->occluded(Vec3(x5, 1, 0), Vec3(0, -1, 0), 0.98f, st));  // only the floor, 1 below
+    auto thirdAlone = tiledRoom(nullptr, 3, 5);
+    thirdAlone->commit();
+    expectAsBuiltAlone(*third, *thirdAlone);
+    // Both back as they were: their old selves in the static BVH are theirs again.
+    auto fourth = tiledRoom(third.get());
+    fourth->commit();
+    EXPECT_EQ(fourth->stats().primitivesBuilt, 0u);
+    EXPECT_EQ(fourth->stats().primitivesMasked, 0u);
+    EXPECT_EQ(fourth->stats().primitivesReused, kRoomPrimitives);
+    auto fourthAlone = tiledRoom(nullptr);
+    fourthAlone->commit();
+    expectAsBuiltAlone(*fourth, *fourthAlone);
+}
+
+TEST(SceneReuse, AStaticBvhMaskingMoreThanItsShareIsRebuilt) {
+    auto first = tiledRoom(nullptr);
+    first->commit();
+    // The floor moved, a tile raised, another and the ball gone: 2 + 2 + 2 + 1 = 7 of the 27
+    // primitives would be masked, over a quarter.
+    auto second = tiledRoom(first.get(), 1, 2, -0.01f, false);
+    second->commit();
+    EXPECT_EQ(second->stats().primitivesMasked, 0u);
+    EXPECT_EQ(second->stats().primitivesReused, 0u);
+    EXPECT_EQ(second->stats().primitivesBuilt, kRoomPrimitives - 3);  // all it has: a new static BVH and the rest
+    auto alone = tiledRoom(nullptr, 1, 2, -0.01f, false);
+    alone->commit();
+    expectAsBuiltAlone(*second, *alone);
+}
+
+TEST(SceneReuse, FramesRebuildAStaticBvhRatherThanMaskIt) {
+    auto first = tiledRoom(nullptr);
+    first->commit();
+    // Nothing changed: the first frame's top level is kept whole as the static BVH.
+    auto second = tiledRoom(first.get(), -1, -1, 0, true, Scene::BvhReuse::Frames);
+    second->commit();
+    EXPECT_EQ(second->stats().primitivesBuilt, 0u);
+    EXPECT_EQ(second->stats().primitivesReused, kRoomPrimitives);
+    // A tile moves: a frame rebuilds the static BVH without it (no masks slowing its rays).
+    auto third = tiledRoom(second.get(), 3, -1, 0, true, Scene::BvhReuse::Frames);
+    third->commit();
+    EXPECT_EQ(third->stats().primitivesMasked, 0u);
+    EXPECT_EQ(third->stats().primitivesBuilt, kRoomPrimitives);
+    auto alone = tiledRoom(nullptr, 3);
+    alone->commit();
+    expectAsBuiltAlone(*third, *alone);
+}

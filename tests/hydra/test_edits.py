@@ -79,8 +79,9 @@ over "World"
 
 
 def test_moving_a_mesh_rebuilds_only_its_bvh(tmp_path):
-    """An edit builds the BVH of what it changed only (gi::Scene::reuseBvhOf): the first move of a
-    mesh gathers everything else into one static BVH; every later move builds the mesh alone."""
+    """An edit builds the BVH of what it changed only (gi::Scene::reuseBvhOf): each move of a
+    mesh, the first included, builds the mesh alone; the rest stays in the BVH built at load, where
+    the mesh's old self is masked."""
     script = REPO / "tests/hydra/scripts/record_stats.py"
     result = run_openusd([openusd_python(), str(script), str(CORNELL), "32", "direct", "2", "0", "move"])
     assert not hdgi_errors(result.stdout + result.stderr), result.stderr
@@ -88,8 +89,27 @@ def test_moving_a_mesh_rebuilds_only_its_bvh(tmp_path):
     initial, moves = report["stats"], report["stats_after_moves"]
     total = initial["primitivesBuilt"]
     assert initial["primitivesReused"] == 0 and total > 0, initial
-    assert moves[0]["primitivesBuilt"] == total and moves[0]["primitivesReused"] == 0, moves[0]
-    for later in moves[1:]:
-        assert 0 < later["primitivesBuilt"] < 0.2 * total, (report["moved"], later)
-        assert later["primitivesBuilt"] + later["primitivesReused"] == total, later
-        assert later["nonFiniteSamples"] == 0, later
+    for move in moves:
+        assert 0 < move["primitivesBuilt"] < 0.2 * total, (report["moved"], move)
+        assert move["primitivesBuilt"] + move["primitivesReused"] == total, move
+        assert move["primitivesMasked"] == move["primitivesBuilt"], move
+        assert move["nonFiniteSamples"] == 0, move
+
+
+def test_hiding_or_rebinding_a_mesh_builds_no_bvh(tmp_path):
+    """Hiding a mesh masks it in the BVH built at load, showing it again unmasks it, and binding
+    another material changes no BVH: none of these edits builds one."""
+    script = REPO / "tests/hydra/scripts/record_stats.py"
+    for edit in ("hide", "material"):
+        result = run_openusd([openusd_python(), str(script), str(CORNELL), "32", "direct", "2", "0", edit])
+        assert not hdgi_errors(result.stdout + result.stderr), result.stderr
+        report = json.loads(result.stdout.strip().splitlines()[-1])
+        total = report["stats"]["primitivesBuilt"]
+        first, second = report["stats_after_edits"]
+        for after in (first, second):
+            assert after["primitivesBuilt"] == 0 and after["nonFiniteSamples"] == 0, (edit, after)
+            assert after["sceneBuildSeconds"] > 0, (edit, after)  # the edit did rebuild the scene
+        masked = first["primitivesMasked"]
+        assert (0 < masked < total) if edit == "hide" else masked == 0, (edit, first)
+        assert first["primitivesReused"] == total - masked, (edit, first)
+        assert second["primitivesMasked"] == 0 and second["primitivesReused"] == total, (edit, second)

@@ -5,13 +5,15 @@ sync), hdGi's render stats (scene build, first pixel) and the total wall time.
 With EDIT = "light", every light's intensity is then doubled and the render repeated (a scene
 rebuild in the same session); its stats are printed as "stats_after_edit". With EDIT = "move",
 the stage's first mesh is moved three times, rendering after each; the stats after each move are
-printed as "stats_after_moves" (with the mesh's path as "moved").
+printed as "stats_after_moves" (with the mesh's path as "moved"). With EDIT = "hide", the first
+mesh is hidden, then shown; with EDIT = "material", it is bound to another material, then to its
+own again: the stats after each are printed as "stats_after_edits" (its path as "edited").
     record_stats.py SCENE WIDTH INTEGRATOR SAMPLES [SEED] [EDIT]"""
 import json
 import sys
 import time
 
-from pxr import CameraUtil, Gf, Usd, UsdGeom, UsdImagingGL, UsdRender
+from pxr import CameraUtil, Gf, Usd, UsdGeom, UsdImagingGL, UsdRender, UsdShade
 
 total = time.perf_counter()
 scene, width, integrator, samples = sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4])
@@ -76,5 +78,20 @@ elif edit == "move":
     for step in range(1, 4):
         translate.Set(Gf.Vec3d(0, 0.01 * step, 0))
         report["stats_after_moves"].append(render_until_converged())
+elif edit in ("hide", "material"):
+    mesh = next(p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh))
+    report["edited"] = str(mesh.GetPath())
+    report["stats_after_edits"] = []
+    if edit == "hide":
+        steps = [lambda: UsdGeom.Imageable(mesh).MakeInvisible(), lambda: UsdGeom.Imageable(mesh).MakeVisible()]
+    else:
+        binding = UsdShade.MaterialBindingAPI.Apply(mesh)
+        own = binding.ComputeBoundMaterial()[0]
+        other = next(UsdShade.Material(p) for p in stage.Traverse()
+                     if p.IsA(UsdShade.Material) and (not own or p.GetPath() != own.GetPath()))
+        steps = [lambda: binding.Bind(other), lambda: binding.Bind(own) if own else binding.UnbindDirectBinding()]
+    for step in steps:
+        step()
+        report["stats_after_edits"].append(render_until_converged())
 report["wall_seconds"] = time.perf_counter() - total
 print(json.dumps(report, default=str))
