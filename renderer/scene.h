@@ -92,8 +92,9 @@ public:
     // what changed is built. The image is the one this scene gives built alone. Call before commit.
     // BvhReuse::Edits (an interactive host) also keeps a static BVH that holds shapes changed
     // since, masking their old selves (buildStaticBvh): an edit's first pixels come without a
-    // rebuild; while masks stand, rays run up to 12% slower and a few pixels may differ from the
-    // scene built alone's bits (README, "Edits build only what they change"). Frames (a sequence,
+    // rebuild; while masks stand, rays run up to 12% slower, and Embree's filtered traversal can
+    // change a few pixels' bits from the scene built alone's (README, "Edits build only what they
+    // change"). Frames (a sequence,
     // where a frame's render outweighs its build) rebuilds it instead, as soon as one changed.
     enum class BvhReuse { Frames, Edits };
     void reuseBvhOf(const Scene& previous, BvhReuse reuse = BvhReuse::Frames);
