@@ -378,6 +378,26 @@ TEST(Auto, CountsSamplesAtTheRateOfThePilotsLastBatches) {
     EXPECT_NEAR(predictedNoise(cache, 3.375 / 100), 0.64, 0.05);
 }
 
+// Two caches' batches of very unequal samples (time slices: a cache's first samples make its
+// records), each value's noise sigma / sqrt(samples) codes: one batch of the mean samples has
+// sigma^2 / mean. Deviations from the others' unweighted mean said 1.4 times that; 4 sigma of the
+// estimate (n = 2048 * 3 values, 6 degrees of freedom each) is 3%.
+TEST(Auto, WeighsBatchesByTheirSamples) {
+    const std::vector<double> samples = {7, 29, 59, 75, 6, 26, 55, 77};
+    constexpr double kSigma = 40;  // one sample's noise, in codes
+    std::mt19937 rng(37);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    AutoPilot cache = syntheticPilot("irradianceCache", 0, 0, 0.5, 37);
+    for (size_t k = 0; k < cache.batches.size(); ++k)
+        for (float& v : cache.batches[k])
+            v = float(linearOf(kTruth) + kSigma / std::sqrt(samples[k]) / slopeAt(kTruth) * gauss(rng));
+    cache.batchSamples = samples;
+    cache.firstCacheBatches = 4;
+    double mean = 0;
+    for (double n : samples) mean += n / double(samples.size());
+    EXPECT_NEAR(predictedNoise(cache, 1.0), kSigma * kSigma / mean, 0.03 * kSigma * kSigma / mean);
+}
+
 TEST(Auto, TheRendererResolvesAutoAndKeepsTheTimeLimit) {
     Scene scene;
     int m = scene.addMaterial(lambert(Color(0.5f), Color(0.5f)));
