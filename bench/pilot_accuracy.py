@@ -14,7 +14,8 @@ fewer photons than the render, and the law in the photon count the pilots fit to
 (renderer/auto_select.h).
 All in sRGB codes squared; one run on a shared machine.
 
-    .venv/bin/python bench/pilot_accuracy.py [--scene cornell] [--resolution 160 120]
+    .venv/bin/python bench/pilot_accuracy.py [--scene cornell|room-sky|sponza|sibenik|sibenik-windows|FILE]
+        [--resolution 160 120]
         [--reference-seconds 240] [--seconds 30] [--repeats 3] [--horizon 60]
 """
 import argparse
@@ -26,7 +27,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = {"cornell": ROOT / "scenes/cornell/cornell.usda",
           "room-sky": ROOT / "scenes/window_room/window_room_sky.usda",
-          "sponza": ROOT / "scenes/sponza/sponza.usda"}
+          "sponza": ROOT / "scenes/sponza/sponza.usda",
+          "sibenik": ROOT / "scenes/sibenik/sibenik_sky.usda",
+          "sibenik-windows": ROOT / "scenes/sibenik/sibenik.usda"}
 CACHES = ["irradianceCache", "adaptiveIrradianceCache", "photonMapIrradianceCache", "photonMapFinalGather"]
 PHOTON_PARAMS = ("photons", "causticPhotons", "photonsPerPass")
 

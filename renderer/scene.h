@@ -216,6 +216,7 @@ private:
                                          const std::shared_ptr<const Bvh>& previous);
     // commit()'s top level: the static BVH (reused or built) and the shapes left out of it.
     std::vector<int> buildStaticBvh(const std::vector<uint64_t>& fingerprints);
+    std::vector<int> shapesOutside(const std::vector<int>& top, const std::vector<int>& inStatic) const;
     // A reused static BVH is rebuilt once the shapes it masks hold more than this share of its
     // primitives (their traversal is wasted work for every ray).
     static constexpr double kMaskedShare = 0.25;

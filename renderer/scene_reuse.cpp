@@ -176,13 +176,7 @@ std::vector<int> Scene::buildStaticBvh(const std::vector<uint64_t>& fingerprints
             }
             stats_.primitivesReused += base->primitives - masked;
             stats_.primitivesMasked = masked;
-            std::vector<bool> inStatic(shapes_.size(), false);
-            for (int i : toShape)
-                if (i >= 0) inStatic[size_t(i)] = true;
-            std::vector<int> loose;
-            for (int i : top)
-                if (!inStatic[size_t(i)]) loose.push_back(i);
-            return loose;
+            return shapesOutside(top, toShape);
         }
     }
     // Else a new static BVH of the shapes unchanged since the previous scene (built once, then
@@ -196,11 +190,18 @@ std::vector<int> Scene::buildStaticBvh(const std::vector<uint64_t>& fingerprints
     if (members.empty()) return top;
     staticBvh_ = shapesBvh(members, fingerprints, nullptr);
     staticBvhToShape_ = members;
-    std::vector<bool> inStatic(shapes_.size(), false);
-    for (int i : members) inStatic[size_t(i)] = true;
+    return shapesOutside(top, members);
+}
+
+// The shapes of `top` that are not in `inStatic` (shape indices; -1 entries are ignored): those
+// the top level builds beside a static BVH.
+std::vector<int> Scene::shapesOutside(const std::vector<int>& top, const std::vector<int>& inStatic) const {
+    std::vector<bool> member(shapes_.size(), false);
+    for (int i : inStatic)
+        if (i >= 0) member[size_t(i)] = true;
     std::vector<int> loose;
     for (int i : top)
-        if (!inStatic[size_t(i)]) loose.push_back(i);
+        if (!member[size_t(i)]) loose.push_back(i);
     return loose;
 }
 
