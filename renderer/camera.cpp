@@ -1,12 +1,16 @@
 #include "camera.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "motion.h"
 #include "sampling.h"
 
 namespace gi {
 
-Camera::Camera(const CameraDesc& desc, int width, int height, const ImageFraming& framing)
-    : desc_(desc), width_(width), height_(height) {
+Camera::Camera(const CameraDesc& desc, int width, int height, const ImageFraming& framing,
+               const PixelMosaic& mosaic)
+    : desc_(desc), mosaic_(mosaic), width_(width), height_(height) {
     // NaN/Inf lens values fall back to UsdGeomCamera's defaults in cameraLens (the renderer warns
     // about them; see Renderer); no setting may turn into a NaN ray.
     const CameraLens lens = cameraLens(desc);
@@ -33,6 +37,16 @@ Camera::Camera(const CameraDesc& desc, int width, int height, const ImageFraming
 }
 
 Ray Camera::generateRay(float filmX, float filmY, Vec2 lens, float time) const {
+    if (mosaic_.tile <= 0) return generateImageRay(filmX, filmY, lens, time);
+    // A film position's tile is its pixel's (a pixel's samples lie in the pixel).
+    const int column = std::clamp(int(std::floor(filmX)) / mosaic_.tile, 0, mosaic_.across - 1);
+    const int row = std::clamp(int(std::floor(filmY)) / mosaic_.tile, 0, mosaic_.tiles() / mosaic_.across - 1);
+    const int t = row * mosaic_.across + column;
+    return generateImageRay(float(mosaic_.x0[size_t(t)]) + (filmX - float(column * mosaic_.tile)),
+                            float(mosaic_.y0[size_t(t)]) + (filmY - float(row * mosaic_.tile)), lens, time);
+}
+
+Ray Camera::generateImageRay(float filmX, float filmY, Vec2 lens, float time) const {
     float sx = (2 * filmX / width_ - 1) * halfWidth_ + offsetX_;
     float sy = (1 - 2 * filmY / height_) * halfHeight_ + offsetY_;
     Vec3 o(0.0f), d;

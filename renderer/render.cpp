@@ -60,6 +60,15 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
                                     std::to_string(win.y0) + ", " + std::to_string(win.y1) + ") is not inside the " +
                                     std::to_string(settings.width) + "x" + std::to_string(settings.height) + " image");
     if (win.empty()) settings_.window = PixelWindow{0, 0, settings.width, settings.height};
+    const PixelMosaic& mosaic = settings.mosaic;
+    if (mosaic.tile > 0) {
+        bool fits = mosaic.across > 0 && mosaic.x0.size() == mosaic.y0.size() && mosaic.tiles() % mosaic.across == 0 &&
+                    mosaic.tiles() > 0 && mosaic.width() == settings.width && mosaic.height() == settings.height;
+        for (size_t t = 0; fits && t < mosaic.x0.size(); ++t)
+            fits = mosaic.x0[t] >= 0 && mosaic.y0[t] >= 0 && mosaic.x0[t] + mosaic.tile <= settings.imageWidth &&
+                   mosaic.y0[t] + mosaic.tile <= settings.imageHeight;
+        if (!fits) throw std::invalid_argument("the pixel mosaic does not tile the film inside its image");
+    }
     const IntegratorInfo* info = findIntegrator(settings.integrator);
     if (!info) {
         std::string names;
@@ -103,7 +112,8 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
             break;
         }
     cameraDesc_ = desc;
-    camera_ = Camera(desc, settings.width, settings.height, settings.framing);
+    camera_ = mosaic.tile > 0 ? Camera(desc, settings.imageWidth, settings.imageHeight, settings.framing, mosaic)
+                              : Camera(desc, settings.width, settings.height, settings.framing);
 }
 
 bool Renderer::chooseAutomatically(const std::atomic<bool>* cancel, double deadline) {

@@ -22,6 +22,10 @@ struct RenderSettings {
     // pixels inside equal the whole image's bit for bit (for integrators that keep no state
     // across pixels during a pass; see gi.job). Empty: the whole image.
     PixelWindow window;
+    // Auto's pilots (auto_select.h): the film, width x height, is this mosaic of tiles of an
+    // imageWidth x imageHeight image, the one the camera frames. Empty: the film is the image.
+    PixelMosaic mosaic;
+    int imageWidth = 0, imageHeight = 0;
     // How the camera's aperture fits the image (UsdRenderSettings' aspectRatioConformPolicy and
     // pixelAspectRatio, or a Hydra host's framing): camera_framing.h.
     ImageFraming framing;
@@ -124,6 +128,10 @@ public:
 
     const Film& film() const { return film_; }
     const RenderStats& stats() const { return stats_; }
+    // The integrator's counters now (stats().integrator holds them as render() ended).
+    std::map<std::string, double> integratorStatistics() const {
+        return integrator_ ? integrator_->statistics() : std::map<std::string, double>{};
+    }
     int samplesTaken() const { return samplesTaken_; }
     const Camera& camera() const { return camera_; }
     // Clears the film, keeps the preprocessed integrator. The next passes take sample indices

@@ -32,7 +32,7 @@ RecordSite IrradianceCacheIntegrator::siteOf(const ShadingPoint& sp) const {
 
 void IrradianceCacheIntegrator::beginPreprocess(const PreprocessContext& context) {
     seed_ = context.seed;
-    footprint_ = PixelFootprint::of(context.camera, context.width, context.height);
+    footprint_ = PixelFootprint::of(context.camera);
     const SceneBounds& bounds = context.scene.bounds();
     cache_.reset(bounds.center, bounds.radius);
     buildCausticMap(context);
@@ -165,6 +165,7 @@ std::map<std::string, double> IrradianceCacheIntegrator::statistics() const {
         {"recordSamplesClamped", double(recordSampler_.outliersClamped())},
         {"preprocessRecords", double(preprocessRecords_.records.load())},
         {"renderTimeRecords", double(renderRecords_.records.load())},
+        {"renderTimeRecordSeconds", renderRecords_.nanoseconds.load() * 1e-9},  // thread-seconds
         {"adoptedRenderTimeRecords", double(adoptedRecords_)},  // of those, inserted into the cache
         {"recordRays", double(preprocessRecords_.rays.load() + renderRecords_.rays.load() + refined.rays.load())},
         {"recordSeconds", recordSeconds},  // thread-seconds spent computing records

@@ -102,7 +102,7 @@ bool PhotonMapIrradianceCacheIntegrator::interpolate(const Scene& scene, const S
 
 void PhotonMapIrradianceCacheIntegrator::preprocess(const PreprocessContext& context) {
     seed_ = context.seed;
-    footprint_ = PixelFootprint::of(context.camera, context.width, context.height);
+    footprint_ = PixelFootprint::of(context.camera);
     buildPhotonMaps(context, settings_.photons, maps_);
     recordPhotons_ = settings_.photons.gatherPhotons;
     if (maps_.global.empty() && settings_.photons.photons > 0)
@@ -237,7 +237,11 @@ Color PhotonMapIrradianceCacheIntegrator::indirect(const Scene& scene, const Sha
     if (!interpolate(scene, site, false, &E) && !interpolate(scene, site, true, &E)) {
         // Nothing near enough: a record for this sample alone (a photon estimate, or a
         // path-traced record from a stream keyed by its site), not stored.
+        const auto start = std::chrono::steady_clock::now();
         IrradianceRecord record = computeRecord(scene, site, stats, renderRecords_);
+        renderRecords_.nanoseconds.fetch_add(
+            uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count()),
+            std::memory_order_relaxed);
         E = record.E;
         renderTimeRecords_.add(record, site.surface);
     }
@@ -253,6 +257,7 @@ std::map<std::string, double> PhotonMapIrradianceCacheIntegrator::statistics() c
     stats["renderTimeRecords"] =
         double(renderRecords_.photonRecords.load() + renderRecords_.pathTracedRecords.load());
     stats["renderTimePathTracedRecords"] = double(renderRecords_.pathTracedRecords.load());
+    stats["renderTimeRecordSeconds"] = renderRecords_.nanoseconds.load() * 1e-9;  // thread-seconds
     stats["adoptedRenderTimeRecords"] = double(adoptedRecords_);  // of those, inserted into the cache
     stats["lookups"] = double(lookups_.load());
     stats["cacheBytes"] = double(cache_.memoryBytes());

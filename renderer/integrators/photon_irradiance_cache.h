@@ -61,6 +61,7 @@ protected:
 private:
     struct Counters {
         std::atomic<uint64_t> photonRecords{0}, pathTracedRecords{0}, pathTracedRays{0};
+        std::atomic<uint64_t> nanoseconds{0};  // thread-time of records computed in the passes
     };
     // A record site and the surface it lies on (for the photon map's visibility guard).
     struct Site {

@@ -10,12 +10,14 @@ struct PixelFootprint {
     float spread = 0;  // between neighbouring pixels' rays at the camera (orthographic cameras)
     float angle = 0;   // between neighbouring pixels' rays, radians (perspective cameras)
 
-    // Measured from the rays through two neighbouring pixels at the image centre. Points seen
+    // Measured from the rays through two neighbouring pixels at the image centre (the image's,
+    // not a mosaic's: pilots of the render's pixels have the render's footprints). Points seen
     // through mirrors use their straight distance to the camera, which can only underestimate
     // the footprint: records there are denser than needed, never sparser.
-    static PixelFootprint of(const Camera& camera, int width, int height) {
-        Ray a = camera.generateRay(0.5f * width, 0.5f * height, Vec2(0.5f, 0.5f));
-        Ray b = camera.generateRay(0.5f * width + 1, 0.5f * height, Vec2(0.5f, 0.5f));
+    static PixelFootprint of(const Camera& camera) {
+        const float x = 0.5f * camera.imageWidth(), y = 0.5f * camera.imageHeight();
+        Ray a = camera.generateImageRay(x, y, Vec2(0.5f, 0.5f));
+        Ray b = camera.generateImageRay(x + 1, y, Vec2(0.5f, 0.5f));
         PixelFootprint f;
         f.origin = a.o;
         f.spread = length(b.o - a.o);

@@ -36,7 +36,7 @@ float ProgressivePhotonMapIntegrator::radiusScale(uint32_t sampleIndex, float al
 
 void ProgressivePhotonMapIntegrator::preprocess(const PreprocessContext& context) {
     seed_ = context.seed;
-    footprint_ = PixelFootprint::of(context.camera, context.width, context.height);
+    footprint_ = PixelFootprint::of(context.camera);
     const Scene& scene = context.scene;
     if (scene.lights().empty()) {
         scene.warn("progressivePhotonMap: the scene has no light to emit photons; only emission is rendered");

@@ -42,9 +42,10 @@ SeenSurfaces SeenSurfaces::trace(const Scene& scene, const Camera& camera, int w
             rows[row].push_back({sp.si.p, recordNormal(sp), photonSurface(sp.si.shapeId, sp.si.instanceId)});
         };
         for (int column = 0; column < across; ++column) {
-            float x = (column + 0.5f) * width / across, y = (row + 0.5f) * height / down;
+            // Over the whole image, also for a pilot's mosaic: photons go where the render looks.
+            float x = (column + 0.5f) * camera.imageWidth() / across, y = (row + 0.5f) * camera.imageHeight() / down;
             sampler.start(int(x), int(y), kSeenSampleIndex);
-            Ray ray = camera.generateRay(x, y, Vec2(0.5f, 0.5f));
+            Ray ray = camera.generateImageRay(x, y, Vec2(0.5f, 0.5f));
             forEachDiffuseHit(scene, ray, sampler, stats, rayDepth, [&](const ShadingPoint& sp) {
                 add(sp);
                 Frame frame(recordNormal(sp));

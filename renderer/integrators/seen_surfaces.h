@@ -19,9 +19,9 @@ namespace gi {
 
 class SeenSurfaces {
 public:
-    // Traces camera rays through a grid of at most kRaysAcross x kRaysAcross pixels, following
-    // specular chains up to rayDepth, and kGatherRays cosine-distributed rays from each
-    // non-specular point they reach.
+    // Traces camera rays through a grid of at most kRaysAcross x kRaysAcross (and at most width x
+    // height, the film's pixels) spread over the camera's image, following specular chains up to
+    // rayDepth, and kGatherRays cosine-distributed rays from each non-specular point they reach.
     static SeenSurfaces trace(const Scene& scene, const Camera& camera, int width, int height, int rayDepth,
                               uint32_t seed);
 

@@ -172,6 +172,32 @@ TEST(CameraFraming, RaysGoThroughTheWindow) {
     EXPECT_NEAR(r.o.y, ow.centerY - ow.halfHeight, 1e-6);
 }
 
+// A mosaic's film is the image's pixels in tiles (auto's pilots): a film position's ray is the
+// image's ray at the same place in the same pixel of its tile, bit for bit.
+TEST(CameraFraming, AMosaicsPixelsAreTheImagesPixels) {
+    PixelMosaic mosaic;
+    mosaic.tile = 5;
+    mosaic.across = 2;
+    mosaic.x0 = {0, 40, 7, 290};
+    mosaic.y0 = {0, 3, 80, 95};
+    Camera camera(filmCamera(), 300, 100, {}, mosaic);
+    ASSERT_EQ(mosaic.width(), 10);
+    ASSERT_EQ(mosaic.height(), 10);
+    for (int y = 0; y < mosaic.height(); ++y)
+        for (int x = 0; x < mosaic.width(); ++x) {
+            const int t = (y / 5) * 2 + x / 5;
+            const Ray a = camera.generateRay(x + 0.25f, y + 0.75f, Vec2(0.5f, 0.5f));
+            const Ray b = camera.generateImageRay(float(mosaic.x0[size_t(t)] + x % 5) + 0.25f,
+                                                  float(mosaic.y0[size_t(t)] + y % 5) + 0.75f, Vec2(0.5f, 0.5f));
+            for (int i = 0; i < 3; ++i) {
+                EXPECT_EQ(a.d[i], b.d[i]) << x << ", " << y;
+                EXPECT_EQ(a.o[i], b.o[i]) << x << ", " << y;
+            }
+        }
+    EXPECT_EQ(camera.imageWidth(), 300);
+    EXPECT_EQ(camera.imageHeight(), 100);
+}
+
 // framingCamera: usdrecord's camera for a stage without one (its 24.11 _ComputeCameraToFrameStage).
 namespace {
 constexpr double kTanHalfFov = 20.955 / (2 * 50.0);  // GfCamera's default horizontal aperture and focal length
