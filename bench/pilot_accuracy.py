@@ -1,7 +1,8 @@
 """How well `auto`'s pilots see each cache technique's bias and noise, against measured truth.
 
-For one scene: path-traced references at the pilots' resolution (about 1,024 pixels, as
-renderer/auto_select.cpp sizes them) and at the render's, then for each technique with a cache
+For one scene: path-traced references at a coarse resolution of about 1,024 pixels (where the
+pilots rendered until they became tiles of the render's own pixels, renderer/auto_select.h; the
+coarse columns show what that cost) and at the render's, then for each technique with a cache
 (irradiance records or photon maps) its bias at both resolutions: two long renders with two seeds,
 the squared error of their mean against the reference, less both images' noise (each pair's
 squared difference / 4). At the pilots' resolution it is measured twice: with the render's photon

@@ -13,15 +13,10 @@ namespace gi {
 
 namespace {
 
-
 double srgbCode(double linear) {
     double x = std::clamp(linear, 0.0, 1.0);
     double v = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
     return 255.0 * v;
-}
-
-bool isConsistent(const std::string& integrator) {
-    return integrator == "path" || integrator == "progressivePhotonMap";
 }
 
 // The per-pixel-value mean of images, weighted by their samples (`samples` empty: alike).
@@ -49,17 +44,6 @@ std::vector<double> srgbCodes(const std::vector<double>& linear) {
     return codes;
 }
 
-// A pilot's share of the pilot time: the path tracer's noise shows in few samples (but each of
-// its batches needs a sample in every pixel, and its heavy tail a few); the photon
-// techniques must first trace and index their photons, and the progressive photon map, which
-// traces a photon map for every sample, is the consistent technique that sees light the path
-// tracer misses (a sun through glass), so its pilot must complete.
-double pilotWeight(const std::string& integrator) {
-    if (integrator == "path") return 1;
-    if (integrator == "progressivePhotonMap") return 2;
-    if (integrator == "photonMapIrradianceCache" || integrator == "photonMapFinalGather") return 1.5;
-    return 1;
-}
 
 // The mean over sample indices [first, end) of s_i^power, s_i = (r_i / r_1)^2 the progressive
 // photon map's squared radius at index i: power 1 is how its blur (bias, as r^2) goes, power -1
@@ -81,19 +65,31 @@ double meanRadiusPower(double alpha, double first, double end, double power) {
     return sum / (end - first);
 }
 
-// A pilot's mean value over its image, and that mean's variance from its batches' spread.
-void meanBrightness(const AutoPilot& pilot, double& mean, double& varianceOfMean) {
+// A pilot's typical brightness: the median of its batches' mean values, and that median's
+// variance from their spread (median absolute deviation). A light the path tracer finds about
+// once in 10^5 bounces (a sun through glass) leaves most of its batches dark and one bright: in
+// the glazed room at 128x96 seven batch means of 0.082-0.085 and one of 0.63, against the photon
+// map's 0.139-0.144, whose mean 0.152 then hid the miss.
+void typicalBrightness(const AutoPilot& pilot, double& median, double& varianceOfMedian) {
     std::vector<double> perBatch;
     for (const auto& batch : pilot.batches) {
         double sum = 0;
         for (float v : batch) sum += v;
         perBatch.push_back(sum / double(std::max<size_t>(1, batch.size())));
     }
-    mean = 0;
-    for (double b : perBatch) mean += b / double(perBatch.size());
-    double variance = 0;
-    for (double b : perBatch) variance += (b - mean) * (b - mean) / double(perBatch.size() - 1);
-    varianceOfMean = variance / double(perBatch.size());
+    auto medianOf = [](std::vector<double> values) {
+        const size_t half = values.size() / 2;
+        std::nth_element(values.begin(), values.begin() + long(half), values.end());
+        double m = values[half];
+        if (values.size() % 2 == 0) m = 0.5 * (m + *std::max_element(values.begin(), values.begin() + long(half)));
+        return m;
+    };
+    median = medianOf(perBatch);
+    std::vector<double> deviations;
+    for (double b : perBatch) deviations.push_back(std::fabs(b - median));
+    // 1.4826 MAD is a normal spread's standard deviation; a median's variance is pi / 2 a mean's.
+    const double sigma = 1.4826 * medianOf(deviations);
+    varianceOfMedian = 0.5 * M_PI * sigma * sigma / double(perBatch.size());
 }
 
 double meanSquaredDifference(const std::vector<double>& a, const std::vector<double>& b) {
@@ -123,218 +119,14 @@ double noiseAtTheRendersPhotons(double v1, double x1, double v2, double x2) {
     return a >= 0 ? a + b : v2 / x2;
 }
 
-// The parameters of the render that `integrator` takes (sampleClamp, say), under the preset.
-ParamSet paramsFor(const std::string& integrator, const RenderSettings& settings) {
-    const IntegratorInfo* info = findIntegrator(integrator);
-    ParamSet chosen;
-    for (const auto& [name, value] : settings.params.values())
-        for (const ParamInfo& p : info->params)
-            if (p.name == name) chosen.set(name, value);
-    return withPreset(settings.preset, integrator, chosen);
-}
-
-// A photon technique's photon counts, scaled with the pilot's pixels: the same photons per pixel
-// footprint, so that density estimates blur over as many pixels in the pilot as in the final
-// render, and its photon tracing costs as much per pixel.
-void scalePhotonCounts(const IntegratorInfo& info, double pixelRatio, ParamSet& params) {
-    constexpr double kMinPilotPhotons = 2000;
-    for (const char* name : {"photons", "causticPhotons", "photonsPerPass"})
-        for (const ParamInfo& p : info.params)
-            if (p.name == name) {
-                double full = paramValue(info, params, name);
-                params.set(name, std::min(full, std::max(kMinPilotPhotons, std::round(full * pixelRatio))));
-            }
-}
-
-// The second cache of a photon technique's pilot traces `factor` times the first's photons (at
-// most the render's), so that the two caches' noise gives its law in the photon count.
-void growPhotonCounts(const IntegratorInfo& info, const ParamSet& renderParams, double factor, ParamSet& params) {
-    for (const char* name : {"photons", "causticPhotons"})
-        for (const ParamInfo& p : info.params)
-            if (p.name == name)
-                params.set(name, std::min(paramValue(info, renderParams, name),
-                                          std::round(paramValue(info, params, name) * factor)));
-}
-
-RenderSettings pilotSettings(const RenderSettings& settings, const std::string& integrator, int width, int height,
-                             uint32_t seed) {
-    RenderSettings ps;
-    ps.width = width;
-    ps.height = height;
-    ps.spp = 1 << 24;  // the deadline ends a pilot
-    ps.integrator = integrator;
-    ps.params = paramsFor(integrator, settings);
-    scalePhotonCounts(*findIntegrator(integrator), double(width) * height / (double(settings.width) * settings.height),
-                      ps.params);
-    ps.seed = seed;
-    ps.threads = settings.threads;
-    ps.filter = settings.filter;
-    ps.framing = settings.framing;  // in fractions of the image: the pilot's window is the image's
-    return ps;
-}
-
-// The renderer's progressive passes from sample index `firstSample`: the first (one sample per
-// pixel) until `lastDeadline`, the others until `deadline`. The image, or false if some pixel has
-// no sample. `nextSample` is where the next batch starts: past every sample index this one used,
-// its last pass cut at the deadline included; `samples` its samples per pixel, that pass's
-// counted for the pixels it finished.
-bool renderBatch(Renderer& renderer, int firstSample, double deadline, double lastDeadline,
-                 const std::atomic<bool>* cancel, std::vector<float>& image, int& nextSample, double& samples) {
-    renderer.reset(firstSample);
-    PassEnd end;
-    do {
-        end = renderer.renderNextPass(Renderer::kMaxPassSamples,
-                                      renderer.samplesTaken() == 0 ? lastDeadline : deadline, cancel);
-        if (end == PassEnd::Cancelled) return false;
-    } while (end == PassEnd::Complete && steadySeconds() < deadline);
-    // Right after the last index used: the progressive photon map's radii go on shrinking as in
-    // one render (a gap would give its later batches the radii of a longer render).
-    nextSample = firstSample + renderer.samplesTaken() +
-                 (end == PassEnd::Deadline ? renderer.stats().partialPassSamples : 0);
-    if (renderer.samplesTaken() == 0) return false;  // the first pass did not reach every pixel
-    samples = renderer.samplesTaken();
-    if (end == PassEnd::Deadline) {
-        const double pixels = double(renderer.film().width()) * renderer.film().height();
-        samples += double(renderer.stats().partialPassPixels) * renderer.stats().partialPassSamples / pixels;
-    }
-    image = renderer.film().color();
-    return true;
-}
-
-// The pilot of `integrator` in `seconds`: one preprocessing, then up to kAutoPilotBatches batches
-// of consecutive sample indices, each with an equal share of the time left, or one sample per
-// pixel if that takes longer (an expensive technique's pilot makes fewer batches: as many as
-// fit). A batch that cannot take a sample in every pixel before the pilot's end ends the pilot;
-// it is complete with two batches or more, and incomplete when cancelled. A technique with a
-// cache (records, photon maps) preprocesses twice, with two seeds, each with half the time and
-// half the batches, so that the two caches' difference measures the cache's own noise; a second
-// cache that makes fewer than two batches is dropped, and the pilot is as with one.
-AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const CameraDesc& camera,
-                      const std::string& integrator, int width, int height, double seconds, uint32_t seed,
-                      const std::atomic<bool>* cancel) {
-    AutoPilot pilot;
-    pilot.integrator = integrator;
-    pilot.seconds = seconds;
-    pilot.width = width;
-    pilot.height = height;
-    const double start = steadySeconds();
-    const RenderSettings ps = pilotSettings(settings, integrator, width, height, seed);
-    const IntegratorInfo& info = *findIntegrator(integrator);
-    if (integrator == "progressivePhotonMap") pilot.radiusAlpha = paramValue(info, ps.params, "alpha");
-    for (const ParamInfo& p : info.params) {
-        if (p.name == "photons" && !isConsistent(integrator))
-            pilot.photonShare = paramValue(info, ps.params, "photons") /
-                                std::max(1.0, paramValue(info, paramsFor(integrator, settings), "photons"));
-        if (p.name == "refineRecords") {
-            pilot.records = true;
-            pilot.refinesRecords = paramValue(info, ps.params, "refineRecords") != 0;
-        }
-    }
-    int caches = isConsistent(integrator) ? 1 : 2;
-    double batchSeconds = 0;  // the latest batch's
-    std::vector<size_t> cacheBatches;
-    double lastBatchesSeconds = 0, lastBatchesSamples = 0;  // the last batch of each cache's
-    double preprocessSeconds = 0, firstPreprocessSeconds = 0;
-    int preprocesses = 0;
-    bool grew = false;  // the second cache traced more photons than the first
-    for (int c = 0; c < caches; ++c) {
-        double end = start + seconds * (c + 1) / caches;
-        RenderSettings cs = ps;
-        cs.seed = seed + uint32_t(c);  // the next technique's pilot starts 2 seeds on
-        // A photon technique's second cache traces more photons, as many as a third of its time
-        // allows at the first's preprocessing rate (at most the render's), if that is 2x or more.
-        double grownShare = 0;
-        if (c == 1 && pilot.photonShare > 0 && pilot.photonShare < 1) {
-            const double affordable = kPhotonGrowthPreprocessShare * std::max(0.0, end - steadySeconds()) /
-                                      std::max(preprocessSeconds, 1e-4);
-            const double factor = std::min(affordable, 1.0 / pilot.photonShare);
-            if (factor >= 2) {
-                const ParamSet renderParams = paramsFor(integrator, settings);
-                growPhotonCounts(info, renderParams, factor, cs.params);
-                grownShare = paramValue(info, cs.params, "photons") /
-                             std::max(1.0, paramValue(info, renderParams, "photons"));
-            }
-        }
-        Renderer renderer(scene, cs, &camera);
-        bool preprocessed = renderer.preprocess(cancel, end);
-        preprocessSeconds += renderer.stats().preprocessSeconds;
-        if (c == 0) firstPreprocessSeconds = renderer.stats().preprocessSeconds;
-        grew = grew || grownShare > 0;
-        ++preprocesses;
-        if (!preprocessed) break;
-        // Photons cut short by the deadline stand for those asked: their count is not known.
-        if (grownShare > 0 && renderer.stats().preprocessScaledDown == 0) pilot.secondPhotonShare = grownShare;
-        int batches = kAutoPilotBatches / caches;
-        int firstSample = 0;
-        size_t made = 0;
-        for (int k = 0; k < batches; ++k) {
-            std::vector<float> image;
-            const double before = renderer.stats().renderSeconds;
-            const int batchStart = firstSample;
-            double samples = 0;
-            const double now = steadySeconds();
-            // The first cache's first pass may run to the pilot's end (see below).
-            const double lastDeadline = caches == 2 && c == 0 && k == 0 ? start + seconds : end;
-            if (!renderBatch(renderer, firstSample, now + std::max(0.0, end - now) / (batches - k), lastDeadline,
-                             cancel, image, firstSample, samples))
-                break;
-            batchSeconds = renderer.stats().renderSeconds - before;
-            pilot.batchSamples.push_back(samples);
-            pilot.batches.push_back(std::move(image));
-            if (isConsistent(integrator)) {  // the progressive photon map's sample indices, batch by batch
-                if (pilot.batchStarts.empty()) pilot.batchStarts.push_back(batchStart);
-                pilot.batchStarts.push_back(firstSample);
-            }
-            ++made;
-            // Where two caches could not each make two batches (the first cache's preprocessing and
-            // two batches like its first would take over half the pilot: on Sponza at 37x28 a
-            // cache's first samples cost 6x its later ones), the first cache takes the whole
-            // pilot: one cache, whose own noise then counts as bias, is better than no pilot.
-            if (caches == 2 && c == 0 && k == 0 && 2 * (steadySeconds() - start + batchSeconds) > seconds) {
-                caches = 1;
-                end = start + seconds;
-                batches = kAutoPilotBatches;
-            }
-        }
-        cacheBatches.push_back(made);
-        if (made < 2) break;
-        lastBatchesSeconds += batchSeconds;
-        lastBatchesSamples += pilot.batchSamples.back();
-    }
-    if (caches == 2 && cacheBatches.size() == 2 && cacheBatches[1] >= 2)
-        pilot.firstCacheBatches = int(cacheBatches[0]);
-    else {
-        pilot.secondPhotonShare = 0;
-        if (caches == 2 && !cacheBatches.empty()) {
-            pilot.batches.resize(cacheBatches[0]);  // the second cache's lone batch, if any, goes
-            pilot.batchSamples.resize(cacheBatches[0]);
-        }
-    }
-    // The render's photons per pixel are the first cache's: its preprocessing is the one to scale.
-    pilot.preprocessSeconds = grew ? firstPreprocessSeconds : preprocessSeconds / std::max(1, preprocesses);
-    if (cancel && cancel->load()) return pilot;
-    if (lastBatchesSamples > 0) pilot.steadySecondsPerSample = lastBatchesSeconds / (lastBatchesSamples * width * height);
-    pilot.complete = pilot.batches.size() >= 2;
-    return pilot;
-}
-
 }  // namespace
 
-const std::vector<std::string>& autoCandidates() {
-    // In order of their fixed cost (preprocessing) on the project's scenes: cheap pilots first.
-    static const std::vector<std::string> candidates = {"path",
-                                                        "irradianceCache",
-                                                        "adaptiveIrradianceCache",
-                                                        "progressivePhotonMap",
-                                                        "photonMapIrradianceCache",
-                                                        "photonMapFinalGather"};
-    return candidates;
-}
-
 std::string AutoChoice::summary() const {
+    const std::string pixels = pilotTile > 0 ? std::to_string(pilotTiles) + " tiles of " + std::to_string(pilotTile) +
+                                                   "x" + std::to_string(pilotTile) + " pixels"
+                                             : "the whole image";
     std::string text = "auto: chose " + integrator + " for " + std::to_string(int(std::lround(budgetSeconds))) +
-                       " s after " + std::to_string(pilotSeconds).substr(0, 4) + " s of pilots at " +
-                       std::to_string(pilotWidth) + "x" + std::to_string(pilotHeight) +
+                       " s after " + std::to_string(pilotSeconds).substr(0, 4) + " s of pilots on " + pixels +
                        "; predicted RMSE (sRGB codes; its square = bias + cache noise + sample noise):";
     for (const AutoPrediction& p : predictions) {
         char buffer[192];
@@ -352,46 +144,6 @@ std::string AutoChoice::summary() const {
     return text;
 }
 
-AutoChoice chooseIntegrator(const Scene& scene, const RenderSettings& settings, const CameraDesc& camera,
-                            double budgetSeconds, double pilotSeconds, const std::atomic<bool>* cancel) {
-    AutoChoice choice;
-    choice.budgetSeconds = budgetSeconds;
-    const double pixels = double(settings.width) * settings.height;
-    const double scale = std::max(1.0, std::sqrt(pixels / kAutoPilotPixels));
-    choice.pilotWidth = std::max(1, int(std::lround(settings.width / scale)));
-    choice.pilotHeight = std::max(1, int(std::lround(settings.height / scale)));
-    const double pilotPixels = double(choice.pilotWidth) * choice.pilotHeight;
-
-    // Pilots in order of their fixed cost, each with its weight's share of the time still left, so
-    // the time one does not use goes to the next and the pilots end with their share.
-    const std::vector<std::string>& candidates = autoCandidates();
-    const double start = steadySeconds(), end = start + pilotSeconds;
-    const size_t warningsBefore = scene.warningCount();
-    std::vector<AutoPilot> pilots;
-    for (size_t k = 0; k < candidates.size(); ++k) {
-        double weightLeft = 0;
-        for (size_t j = k; j < candidates.size(); ++j) weightLeft += pilotWeight(candidates[j]);
-        double seconds = (end - steadySeconds()) * pilotWeight(candidates[k]) / weightLeft;
-        AutoPilot pilot;  // no time left: incomplete
-        pilot.integrator = candidates[k];
-        if (seconds > 0)
-            pilot = renderPilot(scene, settings, camera, candidates[k], choice.pilotWidth, choice.pilotHeight, seconds,
-                                settings.seed + 1 + 2 * uint32_t(k), cancel);
-        pilots.push_back(std::move(pilot));
-        if (cancel && cancel->load()) {
-            scene.dropWarningsAfter(warningsBefore);
-            choice.cancelled = true;
-            return choice;
-        }
-    }
-    double pilotsTook = steadySeconds() - start;
-    scene.dropWarningsAfter(warningsBefore);
-    AutoChoice predicted = predictFromPilots(pilots, pilotPixels, pixels, budgetSeconds);
-    predicted.pilotSeconds = pilotsTook;
-    predicted.pilotWidth = choice.pilotWidth;
-    predicted.pilotHeight = choice.pilotHeight;
-    return predicted;
-}
 
 double predictedNoise(const AutoPilot& pilot, double q) {
     const auto& batches = pilot.batches;
@@ -427,11 +179,16 @@ double predictedNoise(const AutoPilot& pilot, double q) {
     for (int y = 0; y < pilot.height; ++y)
         for (int x = 0; x < pilot.width; ++x)
             for (int channel = 0; channel < 3; ++channel) {
+                // The window, within the pixel's tile (its neighbours in the image), clipped there.
+                const int x0 = pilot.tile > 0 ? x / pilot.tile * pilot.tile : 0,
+                          x1 = pilot.tile > 0 ? x0 + pilot.tile - 1 : pilot.width - 1;
+                const int y0 = pilot.tile > 0 ? y / pilot.tile * pilot.tile : 0,
+                          y1 = pilot.tile > 0 ? y0 + pilot.tile - 1 : pilot.height - 1;
                 // The window's values in every batch, and how many there are.
                 double window = 0;
                 int count = 0;
-                for (int v = std::max(0, y - 1); v <= std::min(pilot.height - 1, y + 1); ++v)
-                    for (int u = std::max(0, x - 1); u <= std::min(pilot.width - 1, x + 1); ++u, ++count)
+                for (int v = std::max(y0, y - 1); v <= std::min(y1, y + 1); ++v)
+                    for (int u = std::max(x0, x - 1); u <= std::min(x1, x + 1); ++u, ++count)
                         window += total[(size_t(v) * size_t(pilot.width) + size_t(u)) * 3 + size_t(channel)];
                 const size_t i = (size_t(y) * size_t(pilot.width) + size_t(x)) * 3 + size_t(channel);
                 double pixel = 0;
@@ -480,11 +237,11 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
         meanNoise[k] = predictedNoise(pilots[k], 1.0 / double(pilots[k].batches.size()));
     }
     // R, the consistent pilots' inverse-variance mean, counts the progressive photon map's blur as
-    // its variance: its pilot's first radii are wide, and wider in the world at the pilot's coarse
-    // pixels (4 to 5 codes RMSE on the Cornell box, as much as the caches' whole error), and the
+    // its variance: its pilot's first radii are wide, and wider in the world with the pilot's
+    // photons (4 to 5 codes RMSE on the Cornell box, as much as the caches' whole error), and the
     // blur is its mean's difference from the path tracer's, less both noises. Unless the path
-    // tracer misses light (a sun through glass), which shows as a darker mean: a blur keeps the
-    // image's mean, a miss does not. R is mixed in codes, where its error is measured: mixed as
+    // tracer misses light (a sun through glass), which shows as a darker typical batch: a blur
+    // keeps the image's mean, a miss does not. R is mixed in codes, where its error is measured: mixed as
     // linear values, the photon map's blur of a bright light (values far above 1) into dark pixels
     // clips their codes whatever its weight, so R's error exceeded what the weights say (Cornell
     // box at 60 s, three runs: 6.0 to 7.2 codes squared where they said 4.8 to 5.0; mixed in codes
@@ -501,8 +258,8 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     bool pathMisses = false;
     if (path && progressive) {
         double pathMean, pathVariance, progressiveMean, progressiveVariance;
-        meanBrightness(*path, pathMean, pathVariance);
-        meanBrightness(*progressive, progressiveMean, progressiveVariance);
+        typicalBrightness(*path, pathMean, pathVariance);
+        typicalBrightness(*progressive, progressiveMean, progressiveVariance);
         pathMisses = progressiveMean - pathMean >
                      std::max(kMissSigmas * std::sqrt(pathVariance + progressiveVariance), kMissShare * progressiveMean);
         if (!pathMisses)
@@ -513,7 +270,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     std::vector<double> referenceCodes(n, 0.0);
     double weightSum = 0;
     for (size_t k = 0; k < pilots.size(); ++k) {
-        if (!pilots[k].complete || !isConsistent(pilots[k].integrator)) continue;
+        if (!pilots[k].complete || !isConsistentTechnique(pilots[k].integrator)) continue;
         double w = 1.0 / (meanNoise[k] + (&pilots[k] == progressive ? progressiveBlur : 0) + kNoiseFloor);
         weightSum += w;
         const std::vector<double> codes = srgbCodes(means[k]);
@@ -531,7 +288,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     for (size_t k = 0; k < pilots.size(); ++k) {
         AutoPrediction p;
         p.integrator = pilots[k].integrator;
-        p.consistent = isConsistent(p.integrator);
+        p.consistent = isConsistentTechnique(p.integrator);
         p.complete = pilots[k].complete && compared;
         p.batches = int(pilots[k].batches.size());
         p.pilotSeconds = pilots[k].seconds;
@@ -572,8 +329,9 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             }
             p.bias = std::max(0.0, error - meanNoise[k] - meanCacheNoise);
             // R holds part of the photon map's own blur: against the path tracer it shows whole.
-            // Its radii are pixel footprints, so the pilot's are wider in the world by the pixels'
-            // size ratio, and its squared blur grows with the radius: on the Cornell box at 37x28
+            // Its pilot's radii are wider in the world by the square root of the pixel counts'
+            // ratio (scalePhotonCounts), and its squared blur grows with the radius: on the
+            // Cornell box at 37x28
             // (40,000 photons a pass, 64 samples) 10.5, 4.6 and 0.64 codes squared at 4, 2 and
             // 0.92 pixels, a power of 1.9 over the whole range. Taken as r^2: the render's blur
             // is the pilot's times the ratio of the pixel counts.
@@ -582,7 +340,11 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             // pilot's grown with the pixel count, takes at most its share of the budget.
             double finalPreprocess = std::min(kPreprocessShare * budgetSeconds,
                                               p.preprocessSeconds * pixels / pilotPixels);
-            double finalSecondsPerPixel = std::max(budgetSeconds - finalPreprocess, 1e-3) / pixels;
+            // The records its first samples make where they land cost the render as the pilot, per
+            // pixel (on Sponza at 10 s 70-75% of a cache's last pilot batches: 1.14 us a sample
+            // without them, 5.2-5.8 with, for 0.99 in the render).
+            const double finalStartup = pilot.startupSeconds * pixels / pilotPixels;
+            double finalSecondsPerPixel = std::max(budgetSeconds - finalPreprocess - finalStartup, 1e-3) / pixels;
             // One batch's samples over the render's, those at the rate of the pilot's last batches.
             double meanSamples = 0;
             for (double samples : pilot.batchSamples) meanSamples += samples / batches;

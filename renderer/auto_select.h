@@ -1,11 +1,13 @@
 // Automatic choice of technique (integrator "auto"), which the thesis left as future work: short
-// pilot renders of every global-illumination technique, at a reduced resolution, estimate on this
+// pilot renders of every global-illumination technique, on a few tiles of the image, estimate on this
 // scene each one's noise (its batches against each other) and bias (against the consistent
 // techniques' pilots), predict each one's error at the render's time budget, and the renderer then
-// renders with the technique predicted best.
+// renders with the technique predicted best. auto_pilots.cpp renders the pilots, auto_select.cpp
+// makes the prediction.
 //
-// Pilots are the final render in miniature: about kAutoPilotPixels pixels, the same camera, and
-// photon counts scaled with the pixel count (the same photons per pixel footprint). Each
+// Pilots are samples of the final render: about kAutoPilotPixels of its own pixels in
+// kAutoPilotTiles tiles (pilotMosaic), the same camera, and photon counts scaled with the pixel
+// count (photon tracing costs as much per pixel as in the render). Each
 // technique preprocesses and renders up to kAutoPilotBatches batches in equal shares of the
 // time left (each at least one sample per pixel, so an expensive technique makes fewer):
 // consecutive ranges of sample indices, each an image of its own (the progressive photon map's
@@ -80,11 +82,11 @@
 // predicted sample noise went from 0.73 to 1.24 (pooled) to 0.43 to 0.86 (this law), for about
 // 0.33 reached: the caches' 4 batches each are noisy inputs.
 // R weighs the progressive photon map's pilot by its noise and its blur (its difference from the
-// path tracer's, less both noises), unless it is brighter in the mean by more than 4 standard
-// errors and 2%, when the path tracer misses light (a sun through glass) and the blur, which
-// keeps the image's mean, is not counted: its pilot's first radii, wide and wider in the world
-// at the pilot's coarse pixels, blur it by 4 to 5 codes RMSE on the Cornell box (the caches'
-// whole error).
+// path tracer's, less both noises), unless its typical batch (the median of the batches' means)
+// is brighter than the path tracer's by more than 4 standard errors and 2%, when the path tracer
+// misses light (a sun through glass) and the blur, which keeps the image's mean, is not counted:
+// its pilot's first radii, wide and (with its photons scaled with the pixels) wider in the
+// world, blur it by 4 to 5 codes RMSE on the Cornell box (the caches' whole error).
 // A technique other than the path tracer is chosen only when its predicted MSE is below
 // kAutoMargin of the path tracer's, so an uncertain prediction falls back on the unbiased one.
 #pragma once
@@ -104,6 +106,11 @@ inline constexpr const char* kAutoIntegrator = "auto";
 // A technique whose pilot cannot render two batches in its share of the pilot time (its
 // preprocessing alone takes most of it) is left out of the choice, and the log says so.
 const std::vector<std::string>& autoCandidates();
+// The techniques whose error falls to zero with time (the path tracer, the progressive photon
+// map): the pilots' reference is made of theirs.
+inline bool isConsistentTechnique(const std::string& integrator) {
+    return integrator == "path" || integrator == "progressivePhotonMap";
+}
 // Another technique must predict at most this share of the path tracer's MSE to be chosen.
 inline constexpr double kAutoMargin = 0.8;
 // Pilot images have about this many pixels (fewer if the render itself is smaller): few enough
@@ -111,6 +118,15 @@ inline constexpr double kAutoMargin = 0.8;
 // batches (at 2048 pixels the irradiance caches and the photon map's final gathering on the
 // Cornell box made one batch each).
 inline constexpr int kAutoPilotPixels = 1024;
+// The pilots' pixels are the render's own (records spaced, photon discs and a sample's cost as
+// the render's) in about this many square tiles spread evenly over the image, kAutoPilotPixels
+// in all: pilots once had the render's camera at about kAutoPilotPixels coarse pixels, where a
+// record cache's bias, its records spaced in pixels, was 50 times the render's (Sibenik under its
+// sky, 37x28 against 160x120) and its sample cost twice the render's. A render of at most twice
+// kAutoPilotPixels is its own pilot.
+inline constexpr int kAutoPilotTiles = 9;
+// The tiles of a width x height render that its pilots render (empty: the whole image).
+PixelMosaic pilotMosaic(int width, int height);
 // Batches per pilot: the more, the less noisy the others' mean below (with the centre taken
 // without the window, Sponza's prediction was 486, 366 and 306 with 4, 6 and 8 batches for a true
 // 191); few enough that a batch of an expensive technique still takes a sample in every pixel.
@@ -137,7 +153,7 @@ struct AutoChoice {
     std::string integrator;       // the technique chosen
     double budgetSeconds = 0;     // what the prediction was for
     double pilotSeconds = 0;      // wall time of all pilots
-    int pilotWidth = 0, pilotHeight = 0;
+    int pilotTile = 0, pilotTiles = 0;  // the pilots' tiles of the image (0: the whole image)
     std::vector<AutoPrediction> predictions;
     bool cancelled = false;
     std::string summary() const;  // one line: the choice and every prediction
@@ -147,6 +163,8 @@ struct AutoChoice {
 struct AutoPilot {
     std::string integrator;
     int width = 0, height = 0;
+    // Its pixels are square tiles of this side, laid side by side (0: one image; pilotMosaic).
+    int tile = 0;
     std::vector<std::vector<float>> batches;  // each width * height * 3
     double seconds = 0;            // its share of the pilot time
     double preprocessSeconds = 0;  // of the pilot's preprocessing (shared by its batches)
@@ -166,6 +184,9 @@ struct AutoPilot {
     // later ones 2.8 us, as at 160x120).
     std::vector<double> batchSamples;
     double steadySecondsPerSample = 0;
+    // Of its first cache's batches' time, what went on records made where no record covered a
+    // sample: a start-up the render pays per pixel as the pilot did, left out of the rate above.
+    double startupSeconds = 0;
     double photonShare = 0;       // its photon map's photons over the render's (0: no photon map)
     // The second cache's photons over the render's, where it traced more than the first (0: as
     // many, or not known: its preprocessing was cut short).

@@ -201,6 +201,58 @@ TEST(Auto, ThePathTracersMissCountsAgainstIt) {
                 1e-9 * path.bias);
 }
 
+// A light the path tracer finds once in a long while (a sun through glass) leaves its batches dark
+// but for one, whose fireflies bring the pilot's mean up to the photon map's: the miss is judged on
+// the typical batch (the median), so it still counts against the path tracer (judged on the mean,
+// the photon map's difference from it would count as its blur, and the path tracer be chosen).
+TEST(Auto, AMissIsSeenPastOneBrightBatch) {
+    std::vector<AutoPilot> pilots = {syntheticPilot("path", -30, 10, 0.1, 6),
+                                     syntheticPilot("progressivePhotonMap", 0, 3, 0.1, 7)};
+    double pathSum = 0, progressiveSum = 0;
+    for (const auto& batch : pilots[0].batches)
+        for (float v : batch) pathSum += v;
+    for (const auto& batch : pilots[1].batches)
+        for (float v : batch) progressiveSum += v;
+    // A firefly in one value of every 100 of one batch carries the difference of the means: the
+    // means agree, and the pixels' codes clip, so the noise they show is far below their size.
+    auto& batch = pilots[0].batches[3];
+    const double lift = (progressiveSum - pathSum) / double((batch.size() + 99) / 100);
+    for (size_t i = 0; i < batch.size(); i += 100) batch[i] += float(lift);
+    AutoChoice choice = predictFromPilots(pilots, kPilotPixels, 4.0 * kPilotPixels, 4.0);
+    EXPECT_EQ(choice.integrator, "progressivePhotonMap");
+    EXPECT_GT(prediction(choice, "path").predictedRmse, 3 * prediction(choice, "progressivePhotonMap").predictedRmse);
+}
+
+// The pilots' pixels: the render's own, in about kAutoPilotTiles tiles of kAutoPilotPixels in all,
+// spread over the image and inside it; a render of at most twice that is its own pilot.
+TEST(Auto, PilotsRenderTheRendersOwnPixelsInTiles) {
+    for (auto [width, height] : {std::pair{160, 120}, std::pair{1024, 768}, std::pair{1920, 1080},
+                                 std::pair{2000, 40}, std::pair{60, 60}}) {
+        const PixelMosaic mosaic = pilotMosaic(width, height);
+        ASSERT_GT(mosaic.tile, 0) << width << "x" << height;
+        EXPECT_EQ(mosaic.tiles() % mosaic.across, 0);
+        EXPECT_GE(mosaic.tiles(), kAutoPilotTiles - 2);
+        EXPECT_LE(mosaic.tiles(), kAutoPilotTiles + 2);
+        const double pixels = double(mosaic.width()) * mosaic.height();
+        if (height > 100) {  // room for the tiles' full size
+            EXPECT_GT(pixels, 0.75 * kAutoPilotPixels);
+            EXPECT_LT(pixels, 1.3 * kAutoPilotPixels);
+        }
+        int left = width, right = 0;
+        for (int t = 0; t < mosaic.tiles(); ++t) {
+            EXPECT_GE(mosaic.x0[size_t(t)], 0);
+            EXPECT_GE(mosaic.y0[size_t(t)], 0);
+            EXPECT_LE(mosaic.x0[size_t(t)] + mosaic.tile, width);
+            EXPECT_LE(mosaic.y0[size_t(t)] + mosaic.tile, height);
+            left = std::min(left, mosaic.x0[size_t(t)]);
+            right = std::max(right, mosaic.x0[size_t(t)] + mosaic.tile);
+        }
+        EXPECT_GT(right - left, width / 2);  // spread over the image, not bunched in one place
+    }
+    EXPECT_EQ(pilotMosaic(40, 30).tile, 0);
+    EXPECT_EQ(pilotMosaic(64, 32).tile, 0);
+}
+
 // A cache's own noise (two caches of different seeds differ by it) is told from its fixed bias:
 // cache noise 3 codes (9), bias 2 (4), batch noise 2. The two caches' mean difference, about
 // 2 * 9 + 2 * 4 / 4 = 20, less the batches' noise, over 2: its standard error over n = 6144
