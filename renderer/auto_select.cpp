@@ -92,10 +92,44 @@ void typicalBrightness(const AutoPilot& pilot, double& median, double& varianceO
     varianceOfMedian = 0.5 * M_PI * sigma * sigma / double(perBatch.size());
 }
 
-double meanSquaredDifference(const std::vector<double>& a, const std::vector<double>& b) {
-    double sum = 0;
-    for (size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
-    return a.empty() ? 0 : sum / double(a.size());
+// Over the values `kept` marks (every value without it).
+double meanSquaredDifference(const std::vector<double>& a, const std::vector<double>& b,
+                             const std::vector<uint8_t>* kept = nullptr) {
+    double sum = 0, count = 0;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (!kept || (*kept)[i]) {
+            sum += (a[i] - b[i]) * (a[i] - b[i]);
+            ++count;
+        }
+    return count > 0 ? sum / count : 0;
+}
+
+// The values a bias is measured on: all but the kBiasTrim share where the path tracer's pilot
+// batches spread most in codes (caustics, a light's neighbours). R is mostly that pilot, and its
+// error there is heavy-tailed: on the Cornell box at 60 s the top 1% of values held 36-46% of each
+// cache's squared difference from R, and the caches' bias estimates scattered from 0 to 6 codes
+// squared between runs for about 0.3.
+std::vector<uint8_t> valuesForBias(const AutoPilot* path, size_t n) {
+    std::vector<uint8_t> kept(n, 1);
+    if (!path || path->batches.size() < 2 || n == 0) return kept;
+    std::vector<double> sum(n, 0.0), squares(n, 0.0);
+    for (const auto& batch : path->batches)
+        for (size_t i = 0; i < n; ++i) {
+            const double code = srgbCode(batch[i]);
+            sum[i] += code;
+            squares[i] += code * code;
+        }
+    const double K = double(path->batches.size());
+    std::vector<double> spread(n);
+    for (size_t i = 0; i < n; ++i) spread[i] = squares[i] / K - (sum[i] / K) * (sum[i] / K);
+    std::vector<double> sorted = spread;
+    const size_t cut = std::min(n - 1, size_t(std::floor(double(n) * (1 - kBiasTrim))));
+    std::nth_element(sorted.begin(), sorted.begin() + long(cut), sorted.end());
+    const double threshold = sorted[cut];
+    size_t left = 0;  // ties at the threshold stay, up to the share
+    for (size_t i = 0; i < n; ++i)
+        if (spread[i] > threshold || (spread[i] == threshold && ++left > n - cut)) kept[i] = 0;
+    return kept;
 }
 
 // The batches [first, end) of a pilot, as a pilot of one cache.
@@ -145,7 +179,7 @@ std::string AutoChoice::summary() const {
 }
 
 
-double predictedNoise(const AutoPilot& pilot, double q) {
+double predictedNoise(const AutoPilot& pilot, double q, const std::vector<uint8_t>* kept) {
     const auto& batches = pilot.batches;
     const size_t K = batches.size();
     if (K < 2 || !(q > 0)) return 0;
@@ -175,10 +209,13 @@ double predictedNoise(const AutoPilot& pilot, double q) {
             weighted[i] += samples[k] * batches[k][i];
             if (k < split) firstWeighted[i] += samples[k] * batches[k][i];
         }
-    double sum = 0;
+    double sum = 0, values = 0;
     for (int y = 0; y < pilot.height; ++y)
         for (int x = 0; x < pilot.width; ++x)
             for (int channel = 0; channel < 3; ++channel) {
+                const size_t i = (size_t(y) * size_t(pilot.width) + size_t(x)) * 3 + size_t(channel);
+                if (kept && !(*kept)[i]) continue;
+                ++values;
                 // The window, within the pixel's tile (its neighbours in the image), clipped there.
                 const int x0 = pilot.tile > 0 ? x / pilot.tile * pilot.tile : 0,
                           x1 = pilot.tile > 0 ? x0 + pilot.tile - 1 : pilot.width - 1;
@@ -190,7 +227,6 @@ double predictedNoise(const AutoPilot& pilot, double q) {
                 for (int v = std::max(y0, y - 1); v <= std::min(y1, y + 1); ++v)
                     for (int u = std::max(x0, x - 1); u <= std::min(x1, x + 1); ++u, ++count)
                         window += total[(size_t(v) * size_t(pilot.width) + size_t(u)) * 3 + size_t(channel)];
-                const size_t i = (size_t(y) * size_t(pilot.width) + size_t(x)) * 3 + size_t(channel);
                 double pixel = 0;
                 for (size_t k = 0; k < K; ++k) {
                     const bool first = k < split;
@@ -212,7 +248,7 @@ double predictedNoise(const AutoPilot& pilot, double q) {
                 double meanCode = srgbCode(total[i] / double(K)), farthest = std::max(meanCode, 255.0 - meanCode);
                 sum += std::min(pixel / (double(K) * q), farthest * farthest);
             }
-    return n ? sum / double(n) : 0;
+    return values > 0 ? sum / values : 0;
 }
 
 AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotPixels, double pixels,
@@ -269,9 +305,17 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     }
     std::vector<double> referenceCodes(n, 0.0);
     double weightSum = 0;
+    // The bias estimates' values, each pilot's mean's noise over them, and R's there.
+    const std::vector<uint8_t> kept = valuesForBias(path, n);
+    std::vector<double> keptNoise(pilots.size(), 0.0);
+    for (size_t k = 0; k < pilots.size(); ++k)
+        if (pilots[k].complete) keptNoise[k] = predictedNoise(pilots[k], 1.0 / double(pilots[k].batches.size()), &kept);
+    double keptVarianceSum = 0;  // sum of w^2 (noise + blur) over the kept values
     for (size_t k = 0; k < pilots.size(); ++k) {
         if (!pilots[k].complete || !isConsistentTechnique(pilots[k].integrator)) continue;
-        double w = 1.0 / (meanNoise[k] + (&pilots[k] == progressive ? progressiveBlur : 0) + kNoiseFloor);
+        const double blur = &pilots[k] == progressive ? progressiveBlur : 0;
+        double w = 1.0 / (meanNoise[k] + blur + kNoiseFloor);
+        keptVarianceSum += w * w * (keptNoise[k] + blur + kNoiseFloor);
         weightSum += w;
         const std::vector<double> codes = srgbCodes(means[k]);
         for (size_t i = 0; i < n; ++i) referenceCodes[i] += w * codes[i];
@@ -281,8 +325,9 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     // prediction is left out, and the choice is the unbiased technique.
     const bool compared = weightSum > 0;
     for (double& r : referenceCodes) r /= compared ? weightSum : 1;
-    // R's mean squared error, its noise and the blur it holds: 1 / the weights' sum.
-    const double referenceVariance = compared ? 1.0 / weightSum : 0;
+    // R's mean squared error, its noise and the blur it holds (1 / the weights' sum over all
+    // values), over the kept values.
+    const double referenceVariance = compared ? keptVarianceSum / (weightSum * weightSum) : 0;
 
     double pathMse = std::numeric_limits<double>::infinity();
     for (size_t k = 0; k < pilots.size(); ++k) {
@@ -296,7 +341,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
         if (p.complete) {
             const double batches = double(pilots[k].batches.size());
             p.noise = predictedNoise(pilots[k], 1.0);
-            double error = meanSquaredDifference(srgbCodes(means[k]), referenceCodes) - referenceVariance;
+            double error = meanSquaredDifference(srgbCodes(means[k]), referenceCodes, &kept) - referenceVariance;
             const AutoPilot& pilot = pilots[k];
             const size_t split = size_t(pilot.firstCacheBatches);
             const bool photonLaw = split > 0 && pilot.photonShare > 0 && pilot.secondPhotonShare > pilot.photonShare;
@@ -308,15 +353,19 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                 // noise.
                 const std::vector<std::vector<float>> first(pilot.batches.begin(), pilot.batches.begin() + long(split)),
                     second(pilot.batches.begin() + long(split), pilot.batches.end());
-                double difference =
-                    meanSquaredDifference(srgbCodes(meanImage(first, sampleWeights(pilot, 0, split))),
-                                          srgbCodes(meanImage(second, sampleWeights(pilot, split, pilot.batches.size()))));
+                const std::vector<double> firstCodes = srgbCodes(meanImage(first, sampleWeights(pilot, 0, split))),
+                                          secondCodes = srgbCodes(
+                                              meanImage(second, sampleWeights(pilot, split, pilot.batches.size())));
+                auto excess = [&](const std::vector<uint8_t>* values) {
+                    return std::max(0.0, meanSquaredDifference(firstCodes, secondCodes, values) -
+                                             predictedNoise(pilot, 1.0 / double(split), values) -
+                                             predictedNoise(pilot, 1.0 / double(second.size()), values));
+                };
                 // A photon map's noise goes as 1 / its photons: each cache's as x_j, its photons'
                 // shortfall from the render's (1 / photonShare), and the first cache's is the
                 // difference's x_1 / (x_1 + x_2) (a half with alike caches).
-                const double excess = std::max(0.0, difference - predictedNoise(pilot, 1.0 / double(split)) -
-                                                        predictedNoise(pilot, 1.0 / double(second.size())));
-                p.cacheNoise = excess * photonsShort.first / (photonsShort.first + photonsShort.second);
+                const double firstShare = photonsShort.first / (photonsShort.first + photonsShort.second);
+                p.cacheNoise = excess(nullptr) * firstShare;
                 // The mean of all batches, weighed by their samples, holds w_1^2 c_1 + w_2^2 c_2 of it.
                 double firstSamples = 0, allSamples = 0;
                 for (size_t b = 0; b < pilot.batches.size(); ++b) {
@@ -325,9 +374,10 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                     if (b < split) firstSamples += samples;
                 }
                 const double w1 = firstSamples / allSamples, w2 = 1 - w1;
-                meanCacheNoise = p.cacheNoise * (w1 * w1 + w2 * w2 * photonsShort.second / photonsShort.first);
+                // Over the bias's values:
+                meanCacheNoise = excess(&kept) * firstShare * (w1 * w1 + w2 * w2 * photonsShort.second / photonsShort.first);
             }
-            p.bias = std::max(0.0, error - meanNoise[k] - meanCacheNoise);
+            p.bias = std::max(0.0, error - keptNoise[k] - meanCacheNoise);
             // R holds part of the photon map's own blur: against the path tracer it shows whole.
             // Its pilot's radii are wider in the world by the square root of the pixel counts'
             // ratio (scalePhotonCounts), and its squared blur grows with the radius: on the

@@ -48,7 +48,10 @@
 //   cache  c2 = max(0, mean((f(M_1) - f(M_2))^2) - noise(1 / K_1) - noise(1 / K_2)) / 2, with
 //               M_1, M_2 the two caches' means of K_1, K_2 batches (noise(q) then from each
 //               batch's deviation from its own cache's others); 0 with one cache
-//   bias   b2 = max(0, e - noise(1 / K) - c2 / 2)
+//   bias   b2 = max(0, e - noise(1 / K) - c2 / 2)   (e, Var(R), this noise and c2 over all values
+//                                                     but the kBiasTrim share where the path
+//                                                     tracer's batches spread most: there R's
+//                                                     error is heavy-tailed)
 //   MSE(T) = b2 * min(1, K r) + noise(r) for the path tracer (a missed bright path is noise, not
 //            bias), where r is one batch's mean samples over the final render's: its budget
 //            (less its preprocessing, the pilot's grown with the pixel count and at most
@@ -91,6 +94,7 @@
 // kAutoMargin of the path tracer's, so an uncertain prediction falls back on the unbiased one.
 #pragma once
 #include <atomic>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -197,7 +201,10 @@ struct AutoPilot {
 
 // noise(q) above: the mean squared error, in sRGB codes, of an image with 1/q times one of
 // the pilot's batches' samples (q = 1: one batch's noise).
-double predictedNoise(const AutoPilot& pilot, double q);
+// Over the values `kept` marks, where given (a bias is measured on such values).
+double predictedNoise(const AutoPilot& pilot, double q, const std::vector<uint8_t>* kept = nullptr);
+// The share of values a bias is not measured on: those where the path tracer's pilot spreads most.
+inline constexpr double kBiasTrim = 0.01;
 
 // The prediction above from the pilots (each `pilotPixels` pixels) for a render of `pixels`
 // pixels with `budgetSeconds`; the choice among the complete pilots ("path" if none is).
