@@ -242,6 +242,9 @@ def opaque_lobes(material, diffuse):
         f0, f90 = np.full(3, r * r), 1.0
     if is_black(f0) and f90 == 0:
         return {"type": "diffuse", "reflectance": diffuse}
+    if VARIANT.startswith("scalar"):
+        raise ConversionError(f"{name}: the specular-workflow BSDF is Python, which a scalar variant calls per "
+                              "sample; compare scalar variants on scenes without it (the Cornell box)")
     return {"type": "usd_specular_workflow", "diffuse": diffuse, "f0": rgb(f0), "f90": float(f90),
             "roughness": float(material.roughness)}
 
@@ -421,13 +424,15 @@ def mitsuba_mesh(mi, shape, transform, bsdf, emitter, textured):
     has_normals, has_uvs = normals is not None, uvs is not None
     mesh = mi.Mesh(shape.name, len(positions), len(indices), props, has_normals, has_uvs)
     params = mi.traverse(mesh)
-    params["vertex_positions"] = mi.Float(positions.astype(np.float32).ravel())
-    params["faces"] = mi.UInt32(indices.astype(np.uint32).ravel())
+    # The buffers' own types: mi.Float in a vectorised variant, a dynamic array in a scalar one.
+    floats, uints = type(params["vertex_positions"]), type(params["faces"])
+    params["vertex_positions"] = floats(positions.astype(np.float32).ravel())
+    params["faces"] = uints(indices.astype(np.uint32).ravel())
     if has_normals:
-        params["vertex_normals"] = mi.Float(normals.astype(np.float32).ravel())
+        params["vertex_normals"] = floats(normals.astype(np.float32).ravel())
     if has_uvs:
         uvs = np.column_stack([uvs[:, 0], 1 - uvs[:, 1]])   # Mitsuba's v runs down the image
-        params["vertex_texcoords"] = mi.Float(uvs.astype(np.float32).ravel())
+        params["vertex_texcoords"] = floats(uvs.astype(np.float32).ravel())
     params.update()
     return mesh, approximated
 

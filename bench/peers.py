@@ -21,6 +21,12 @@ shared: figures are from one run, alternating the renderers so that load changes
     .venv/bin/pip install -e '.[bench]'      # Mitsuba 3 (the `bench` extra)
     .venv/bin/python bench/peers.py [--scenes cornell,sponza,sibenik] [--width 128]
         [--converge-seconds 120] [--seconds 10] [--threads 2] [--best progressivePhotonMap]
+        [--mitsuba-variant scalar_rgb]
+
+--mitsuba-variant scalar_rgb runs Mitsuba one path at a time, as gi does: what its vectorised
+LLVM variant gains over its own scalar code. Only for scenes without the specular-workflow BSDF
+(the Cornell box): that BSDF is Python (mitsuba_scene.py), which the LLVM variant compiles into
+its kernel once and the scalar variant would call per sample.
 """
 import argparse
 import math
@@ -186,7 +192,8 @@ def renderer_memory_mb(renderer, name, width, threads):
     both (Mitsuba's scene is built from its arrays), so its own peak is left out of both."""
     import subprocess
     out = subprocess.run([sys.executable, __file__, "--memory-probe", renderer, "--scenes", name,
-                          "--width", str(width), "--threads", str(threads)],
+                          "--width", str(width), "--threads", str(threads),
+                          "--mitsuba-variant", mitsuba_scene.VARIANT],
                          capture_output=True, text=True, check=True).stdout
     return float(out.strip().splitlines()[-1])
 
@@ -270,9 +277,12 @@ def main(argv=None):
     parser.add_argument("--seconds", type=float, default=10.0, help="equal-time budget per render")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--best", default="progressivePhotonMap", help="gi's technique set against Mitsuba's path tracer")
+    parser.add_argument("--mitsuba-variant", default=mitsuba_scene.VARIANT,
+                        help="Mitsuba's variant (scalar_rgb: one path at a time; see above)")
     parser.add_argument("--memory-probe", choices=["gi", "mitsuba"], help=argparse.SUPPRESS)  # the probe's process
     parser.add_argument("--memory-only", action="store_true", help="only the memory figures")
     args = parser.parse_args(argv)
+    mitsuba_scene.VARIANT = args.mitsuba_variant
     if args.memory_probe:
         probe_memory(args.memory_probe, args.scenes, args.width, args.threads)
         return 0
@@ -287,7 +297,10 @@ def main(argv=None):
         if not SCENES[name].exists():
             print(f"{name}: {SCENES[name]} missing (run scripts/import-scenes.sh); skipped")
             continue
-        report(run_scene(name, SCENES[name], args))
+        try:
+            report(run_scene(name, SCENES[name], args))
+        except mitsuba_scene.ConversionError as error:
+            print(f"{name}: not converted for {mitsuba_scene.VARIANT} ({error}); skipped")
     return 0
 
 
