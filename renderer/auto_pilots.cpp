@@ -92,20 +92,54 @@ double startupThreadSeconds(const Renderer& renderer) {
     return it == statistics.end() ? 0.0 : it->second;
 }
 
+// A refined-record cache's records after one of its batches (AutoPilot::recordPaths...): the
+// first batch's records and samples per pixel go to `first`, from which the later ones' growth.
+void recordRecords(const Renderer& renderer, bool firstBatch, std::pair<double, double>& first, AutoPilot& pilot) {
+    const auto statistics = renderer.integratorStatistics();
+    auto stat = [&](const char* name) {
+        const auto it = statistics.find(name);
+        return it == statistics.end() ? 0.0 : it->second;
+    };
+    const double pixels = double(renderer.film().width()) * renderer.film().height();
+    // The photon cache's path-traced records (its photon records' noise falls with its photons).
+    const double records =
+        statistics.count("pathTracedRecordsInCache") ? stat("pathTracedRecordsInCache") : stat("records");
+    const double paths = stat("recordPathsMean");
+    const double samples = double(renderer.stats().cameraSamples) / pixels;
+    if (firstBatch) first = {records, samples};
+    if (!(records > 0 && paths > 0 && samples > 0)) return;
+    pilot.recordPaths = paths;
+    pilot.recordsPerPixel = records / pixels;
+    pilot.recordRaysPerPath = stat("recordRays") / (records * paths);
+    pilot.passRaysPerSample = double(renderer.stats().rays) / double(renderer.stats().cameraSamples);
+    pilot.cacheSamples = samples;
+    pilot.recordGrowth = first.first > 0 && samples > first.second
+                             ? std::log(records / first.first) / std::log(samples / first.second)
+                             : 0.0;
+}
+
 // The renderer's progressive passes from sample index `firstSample`: the first (one sample per
 // pixel) until `lastDeadline`, the others until `deadline`. The image, or false if some pixel has
 // no sample. `nextSample` is where the next batch starts: past every sample index this one used,
 // its last pass cut at the deadline included; `samples` its samples per pixel, that pass's
-// counted for the pixels it finished.
+// counted for the pixels it finished. Its passes' sample counts are appended to `passes`, or,
+// with `replay`, those passes are rendered (a second cache's batch takes the first's samples).
 bool renderBatch(Renderer& renderer, int firstSample, double deadline, double lastDeadline,
-                 const std::atomic<bool>* cancel, std::vector<float>& image, int& nextSample, double& samples) {
+                 const std::atomic<bool>* cancel, std::vector<float>& image, int& nextSample, double& samples,
+                 std::vector<int>& passes, const std::vector<int>* replay = nullptr) {
     renderer.reset(firstSample);
-    PassEnd end;
-    do {
-        end = renderer.renderNextPass(Renderer::kMaxPassSamples,
-                                      renderer.samplesTaken() == 0 ? lastDeadline : deadline, cancel);
+    PassEnd end = PassEnd::Complete;
+    for (size_t pass = 0; !replay || pass < replay->size(); ++pass) {
+        const double passDeadline = renderer.samplesTaken() == 0 ? lastDeadline : deadline;
+        const int taken = renderer.samplesTaken();
+        end = replay ? renderer.renderPass(firstSample + taken, (*replay)[pass], passDeadline, cancel)
+                     : renderer.renderNextPass(Renderer::kMaxPassSamples, passDeadline, cancel);
         if (end == PassEnd::Cancelled) return false;
-    } while (end == PassEnd::Complete && steadySeconds() < deadline);
+        if (!replay)
+            passes.push_back(end == PassEnd::Complete ? renderer.samplesTaken() - taken
+                                                      : renderer.stats().partialPassSamples);
+        if (end != PassEnd::Complete || steadySeconds() >= deadline) break;
+    }
     // Right after the last index used: the progressive photon map's radii go on shrinking as in
     // one render (a gap would give its later batches the radii of a longer render).
     nextSample = firstSample + renderer.samplesTaken() +
@@ -160,10 +194,17 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
     double preprocessSeconds = 0, firstPreprocessSeconds = 0;
     int preprocesses = 0;
     bool grew = false;  // the second cache traced more photons than the first
+    std::pair<double, double> firstRecords;  // its records and samples per pixel after the first batch
+    // The first cache's batches: where each started and its passes' samples, for the second's.
+    std::vector<int> firstStarts;
+    std::vector<std::vector<int>> firstPasses;
     for (int c = 0; c < caches; ++c) {
         double end = start + seconds * (c + 1) / caches;
         RenderSettings cs = ps;
-        cs.seed = seed + uint32_t(c);  // the next technique's pilot starts 2 seeds on
+        // Both caches take the same camera samples (common random numbers): their difference is
+        // then the caches' own, not the samples' (cacheSeed; the next technique starts 2 seeds on).
+        cs.seed = seed;
+        if (c == 1) cs.cacheSeed = seed + 1;
         // A photon technique's second cache traces more photons, as many as a third of its time
         // allows at the first's preprocessing rate (at most the render's), if that is 2x or more.
         double grownShare = 0;
@@ -187,7 +228,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         if (!preprocessed) break;
         // Photons cut short by the deadline stand for those asked: their count is not known.
         if (grownShare > 0 && renderer.stats().preprocessScaledDown == 0) pilot.secondPhotonShare = grownShare;
-        int batches = kAutoPilotBatches / caches;
+        int batches = c == 0 ? kAutoPilotBatches / caches : int(firstStarts.size());
         int firstSample = 0;
         size_t made = 0;
         for (int k = 0; k < batches; ++k) {
@@ -199,9 +240,17 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
             const double now = steadySeconds();
             // The first cache's first pass may run to the pilot's end (see below).
             const double lastDeadline = caches == 2 && c == 0 && k == 0 ? start + seconds : end;
-            if (!renderBatch(renderer, firstSample, now + std::max(0.0, end - now) / (batches - k), lastDeadline,
-                             cancel, image, firstSample, samples))
+            std::vector<int> passes;
+            // The second cache renders the first's batches, pass for pass, until its end.
+            if (c == 1) firstSample = firstStarts[size_t(k)];
+            if (!renderBatch(renderer, firstSample, c == 1 ? end : now + std::max(0.0, end - now) / (batches - k),
+                             lastDeadline, cancel, image, firstSample, samples, passes,
+                             c == 1 ? &firstPasses[size_t(k)] : nullptr))
                 break;
+            if (c == 0) {
+                firstStarts.push_back(batchStart);
+                firstPasses.push_back(std::move(passes));
+            }
             batchSeconds = renderer.stats().renderSeconds - before;
             // Records made where the batch's samples first needed them are the cache's start-up,
             // which a longer render spreads over many samples: apart from its steady rate.
@@ -210,6 +259,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
             if (c == 0 || caches == 1) startupSeconds += batchSeconds - steadyBatchSeconds;
             pilot.batchSamples.push_back(samples);
             pilot.batches.push_back(std::move(image));
+            if (c == 0 && pilot.refinesRecords) recordRecords(renderer, k == 0, firstRecords, pilot);
             if (isConsistentTechnique(integrator)) {  // the progressive photon map's sample indices, batch by batch
                 if (pilot.batchStarts.empty()) pilot.batchStarts.push_back(batchStart);
                 pilot.batchStarts.push_back(firstSample);

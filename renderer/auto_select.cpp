@@ -144,6 +144,28 @@ AutoPilot cachePilot(const AutoPilot& pilot, size_t first, size_t end) {
     return part;
 }
 
+// Two caches' paired batches (the same camera samples, cache 1's k-th batch with cache 2's) as
+// one pilot whose noise(q) is that of the caches' mean difference, in codes: batch k is the
+// caches' mean image plus the k-th pair's difference from the pairs' mean difference.
+AutoPilot pairedDifferences(const AutoPilot& first, const AutoPilot& second) {
+    AutoPilot pairs = first;
+    const size_t K = std::min(first.batches.size(), second.batches.size());
+    const size_t n = first.batches.empty() ? 0 : first.batches[0].size();
+    pairs.batches.assign(K, std::vector<float>(n));
+    pairs.batchSamples.assign(K, 1.0);
+    std::vector<double> mean(n, 0.0), meanDifference(n, 0.0);
+    for (size_t k = 0; k < K; ++k)
+        for (size_t i = 0; i < n; ++i) {
+            mean[i] += (double(first.batches[k][i]) + second.batches[k][i]) / double(2 * K);
+            meanDifference[i] += (double(first.batches[k][i]) - second.batches[k][i]) / double(K);
+        }
+    for (size_t k = 0; k < K; ++k)
+        for (size_t i = 0; i < n; ++i)
+            pairs.batches[k][i] =
+                float(mean[i] + (double(first.batches[k][i]) - second.batches[k][i]) - meanDifference[i]);
+    return pairs;
+}
+
 // The noise a + b x at x = 1 (the render's photons) through v1 at x1 and v2 at x2 < x1: no less
 // than 1 / x falls (a >= 0), and v2 where more photons did not lower it.
 double noiseAtTheRendersPhotons(double v1, double x1, double v2, double x2) {
@@ -153,6 +175,24 @@ double noiseAtTheRendersPhotons(double v1, double x1, double v2, double x2) {
     return a >= 0 ? a + b : v2 / x2;
 }
 
+
+// The pilot's refined records' mean paths over the render's, after `renderSamples` samples per
+// pixel of `pixels`: a record's noise goes as 1 / its paths. The render refines its records until
+// their rays match its passes' (record_refinement.h), so its records' paths are its passes' rays
+// over its records, at the pilot's rays per record path; its records are the pilot's per pixel,
+// grown with the samples as over the pilot's batches (new records where samples land uncovered).
+// Measured with fixed sample counts (irradianceCache, 160x120, passes' rays as the stats give):
+// Sponza's records grew 1.27-1.33x per 4x the samples from 4 to 4096 spp (5,258 to 19,520), so its
+// records' paths grew 1.4-2.2x (108 at the fill, 392 at 256 spp, 1,585 at 4096), not 4x; the
+// Cornell box's stayed at 1,506-1,528 and their paths grew 3.6-4.0x.
+double recordPathsShare(const AutoPilot& pilot, double renderSamples, double pixels) {
+    const double growth = std::pow(std::max(1.0, renderSamples / std::max(pilot.cacheSamples, 1e-3)),
+                                   std::clamp(pilot.recordGrowth, 0.0, 0.5));
+    const double records = std::max(1.0, pilot.recordsPerPixel * pixels * growth);
+    const double paths =
+        pilot.passRaysPerSample * renderSamples * pixels / std::max(pilot.recordRaysPerPath, 1e-3) / records;
+    return std::min(1.0, pilot.recordPaths / std::max(paths, pilot.recordPaths));
+}
 }  // namespace
 
 std::string AutoChoice::summary() const {
@@ -348,18 +388,34 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             const std::pair<double, double> photonsShort =
                 photonLaw ? std::make_pair(1 / pilot.photonShare, 1 / pilot.secondPhotonShare) : std::make_pair(1.0, 1.0);
             double meanCacheNoise = 0;
+            double sharedSampleNoise = 0;  // the two caches' common samples' part of the mean's noise
             if (split > 0) {
-                // Two caches: their means' difference, less their batches' noise, is both caches'
-                // noise.
-                const std::vector<std::vector<float>> first(pilot.batches.begin(), pilot.batches.begin() + long(split)),
-                    second(pilot.batches.begin() + long(split), pilot.batches.end());
-                const std::vector<double> firstCodes = srgbCodes(meanImage(first, sampleWeights(pilot, 0, split))),
-                                          secondCodes = srgbCodes(
-                                              meanImage(second, sampleWeights(pilot, split, pilot.batches.size())));
+                // Two caches of the same camera samples, batch for batch (common random numbers):
+                // their paired batches' mean difference, less the noise of that difference (its
+                // spread over the pairs), is both caches' own noise. Unpaired, the samples' noise
+                // of both means had to be subtracted: on Sponza at 160x120 about 600 codes squared,
+                // estimated to within 10-20%, against some 50 of the caches' own.
+                const size_t pairs = std::min(split, pilot.batches.size() - split);
+                const AutoPilot firstCache = cachePilot(pilot, 0, pairs),
+                                secondCache = cachePilot(pilot, split, split + pairs);
+                const AutoPilot differences = pairedDifferences(firstCache, secondCache);
+                const std::vector<double> firstCodes =
+                    srgbCodes(meanImage(firstCache.batches, firstCache.batchSamples));
+                const std::vector<double> secondCodes =
+                    srgbCodes(meanImage(secondCache.batches, secondCache.batchSamples));
+                // The difference's noise, over `values`: from the pairs' spread, which also holds how
+                // the caches' difference drifts from batch to batch (the records their batches add:
+                // on the Cornell box the photon cache's pairs spread by 25.6 codes squared, its
+                // batches by 1.2 each), or as the two means' noise, which counts their common samples'
+                // as if apart; each is at least the noise, so the smaller.
+                auto differenceNoise = [&](const std::vector<uint8_t>* values) {
+                    return std::min(predictedNoise(differences, 1.0 / double(pairs), values),
+                                    predictedNoise(firstCache, 1.0 / double(pairs), values) +
+                                        predictedNoise(secondCache, 1.0 / double(pairs), values));
+                };
                 auto excess = [&](const std::vector<uint8_t>* values) {
-                    return std::max(0.0, meanSquaredDifference(firstCodes, secondCodes, values) -
-                                             predictedNoise(pilot, 1.0 / double(split), values) -
-                                             predictedNoise(pilot, 1.0 / double(second.size()), values));
+                    return std::max(0.0,
+                                    meanSquaredDifference(firstCodes, secondCodes, values) - differenceNoise(values));
                 };
                 // A photon map's noise goes as 1 / its photons: each cache's as x_j, its photons'
                 // shortfall from the render's (1 / photonShare), and the first cache's is the
@@ -376,8 +432,14 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                 const double w1 = firstSamples / allSamples, w2 = 1 - w1;
                 // Over the bias's values:
                 meanCacheNoise = excess(&kept) * firstShare * (w1 * w1 + w2 * w2 * photonsShort.second / photonsShort.first);
+                // The caches share their samples, so the mean's noise has, beside each cache's own
+                // (keptNoise), 2 w_1 w_2 Cov(M_1, M_2), and Var(M_1 - M_2) = V_1 + V_2 - 2 Cov.
+                const double v1 = predictedNoise(cachePilot(pilot, 0, split), 1.0 / double(split), &kept),
+                             v2 = predictedNoise(cachePilot(pilot, split, pilot.batches.size()),
+                                                 1.0 / double(pilot.batches.size() - split), &kept);
+                sharedSampleNoise = w1 * w2 * std::max(0.0, v1 + v2 - differenceNoise(&kept));
             }
-            p.bias = std::max(0.0, error - keptNoise[k] - meanCacheNoise);
+            p.bias = std::max(0.0, error - keptNoise[k] - sharedSampleNoise - meanCacheNoise);
             // R holds part of the photon map's own blur: against the path tracer it shows whole.
             // Its pilot's radii are wider in the world by the square root of the pixel counts'
             // ratio (scalePhotonCounts), and its squared blur grows with the radius: on the
@@ -405,7 +467,11 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             double cacheShare = pilot.photonShare;
             if (pilot.records) {
                 const double cacheBatches = split > 0 ? double(split) : batches;
-                cacheShare = std::max(cacheShare, pilot.refinesRecords ? std::min(1.0, cacheBatches * ratio) : 1.0);
+                double recordShare = 1.0;
+                if (pilot.refinesRecords)
+                    recordShare = pilot.recordPaths > 0 ? recordPathsShare(pilot, meanSamples / ratio, pixels)
+                                                        : std::min(1.0, cacheBatches * ratio);
+                cacheShare = std::max(cacheShare, recordShare);
             }
             if (pilot.radiusAlpha > 0 && pilot.batchStarts.size() == pilot.batches.size() + 1) {
                 // Its radii shrink: its bias goes as the mean s_i, and its noise falls more

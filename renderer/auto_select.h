@@ -45,10 +45,15 @@
 //                                                     the inverse-variance mean of the consistent
 //                                                     techniques' pilots' codes f (path,
 //                                                     progressivePhotonMap; see below)
-//   cache  c2 = max(0, mean((f(M_1) - f(M_2))^2) - noise(1 / K_1) - noise(1 / K_2)) / 2, with
-//               M_1, M_2 the two caches' means of K_1, K_2 batches (noise(q) then from each
-//               batch's deviation from its own cache's others); 0 with one cache
-//   bias   b2 = max(0, e - noise(1 / K) - c2 / 2)   (e, Var(R), this noise and c2 over all values
+//   cache  c2 = max(0, mean((f(M_1) - f(M_2))^2) - v_D) / 2, with M_1, M_2 the two caches' means
+//               over their P paired batches (the second cache renders the first's batches pass
+//               for pass from the same camera samples, with its own cache seed), v_D the noise
+//               of their difference: the smaller of the pairs' differences' noise(1 / P) and
+//               noise_1(1 / P) + noise_2(1 / P) (noise(q) from each batch's deviation from its
+//               own cache's others); 0 with one cache
+//   bias   b2 = max(0, e - noise(1 / K) - s - c2 / 2)   (s = w_1 w_2 (v_1 + v_2 - v_D), what the
+//                                                     caches' shared samples add to the mean's
+//                                                     noise; e, Var(R), these noises and c2 over all values
 //                                                     but the kBiasTrim share where the path
 //                                                     tracer's batches spread most: there R's
 //                                                     error is heavy-tailed)
@@ -65,8 +70,10 @@
 //            over their sample indices, s_i = (r_i / r_1)^2: its blur goes as r^2, and each
 //            sample's photon noise as 1 / r^2, so its noise falls as N^-alpha, not N^-1 (on the
 //            Cornell box at 60 s 1 / N predicted 0.55 for 0.9 reached);
-//            b2 + c2 * share + noise(r) for the others, share the larger of K_1 r (records
-//            refined with the camera's samples; 1 if not refined) and the pilot's photons over the
+//            b2 + c2 * share + noise(r) for the others, share the larger of the pilot's records'
+//            mean paths over the render's (records refined as the render goes on: their paths
+//            grow more slowly than the samples where the render keeps making records; 1 if not
+//            refined; recordPathsShare in auto_select.cpp) and the pilot's photons over the
 //            render's (on the Cornell box at 60 s the irradiance cache's pilot error, taken as bias
 //            alone, predicted 2.5 for 0.8 reached: refined records keep converging; with the
 //            cache's noise apart, 1.6 to 1.8, still pessimistic).
@@ -197,6 +204,14 @@ struct AutoPilot {
     double secondPhotonShare = 0;
     bool records = false;         // irradiance records...
     bool refinesRecords = false;  // ... refined between passes by as many paths as the camera traced
+    // Refined records: the first cache after its batches, from which the render's records' paths
+    // are predicted (0: not known; the cache's noise then falls with the camera's samples).
+    double recordPaths = 0;        // mean paths of its path-traced records
+    double recordsPerPixel = 0;    // its records over the pilot's pixels
+    double recordGrowth = 0;       // its records grew as (samples per pixel)^recordGrowth over its batches
+    double recordRaysPerPath = 0;  // its records' rays over their paths
+    double passRaysPerSample = 0;  // rays its passes traced per pixel sample (records they made included)
+    double cacheSamples = 0;       // samples per pixel its batches took
 };
 
 // noise(q) above: the mean squared error, in sRGB codes, of an image with 1/q times one of

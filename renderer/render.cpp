@@ -142,7 +142,8 @@ bool Renderer::preprocess(const std::atomic<bool>* cancel, double deadline) {
         return false;
     }
     std::atomic<int> scaledDown{0};
-    PreprocessContext context{scene_, camera_, settings_.width, settings_.height, settings_.seed, cancel};
+    PreprocessContext context{scene_, camera_, settings_.width, settings_.height,
+                              settings_.cacheSeed.value_or(settings_.seed), cancel};
     if (deadline > 0) {
         double now = steadySeconds();
         context.deadline = now + kPreprocessShare * std::max(0.0, deadline - now);
@@ -204,7 +205,8 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
     }
     auto start = Clock::now();
     {
-        PreprocessContext context{scene_, camera_, settings_.width, settings_.height, settings_.seed, cancel};
+        PreprocessContext context{scene_, camera_, settings_.width, settings_.height,
+                                  settings_.cacheSeed.value_or(settings_.seed), cancel};
         context.deadline = deadline;  // the pass's setup stops with the render
         context.passRays = stats_.rays;
         tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);

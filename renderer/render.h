@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "auto_select.h"
@@ -34,6 +35,10 @@ struct RenderSettings {
     ParamSet params;
     std::string preset;  // a named parameter set (integrator.h) under `params`; empty = the defaults
     uint32_t seed = 0;
+    // The seed of the integrator's preprocessing and caches (records, photon maps), where it
+    // differs from the camera samples' `seed`: auto's pilots render two caches from the same
+    // camera samples, so that their difference is the caches' own (auto_pilots.cpp).
+    std::optional<uint32_t> cacheSeed;
     int threads = 0;         // 0 = all hardware threads
     // Seconds for the whole render, preprocessing included; 0 = none. Preprocessing gets about
     // half (kPreprocessShare) and scales itself down to fit; passes are sized from the measured

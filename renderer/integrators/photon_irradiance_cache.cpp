@@ -264,7 +264,11 @@ std::map<std::string, double> PhotonMapIrradianceCacheIntegrator::statistics() c
     stats["recordFillSeconds"] = fillSeconds_;
     stats["recordRefinementRounds"] = refinement_ ? refinement_->rounds() : 0;
     stats["recordRefinementSeconds"] = refinement_ ? refinement_->counters().nanoseconds.load() * 1e-9 : 0.0;
-    stats["pathTracedRecordPathsMean"] = RecordRefinement::meanSamples(cache_);
+    // As the irradiance cache's, of its path-traced records: their mean paths, count and rays.
+    stats["recordPathsMean"] = RecordRefinement::meanSamples(cache_);
+    stats["pathTracedRecordsInCache"] = double(RecordRefinement::pathTracedCount(cache_));
+    stats["recordRays"] = double(preprocessRecords_.pathTracedRays.load() + renderRecords_.pathTracedRays.load() +
+                                 (refinement_ ? refinement_->counters().rays.load() : 0));
     stats["recordPhotons"] = recordPhotons_;
     return stats;
 }

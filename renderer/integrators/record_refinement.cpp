@@ -69,4 +69,10 @@ double RecordRefinement::meanSamples(const IrradianceCache& cache) {
     return records > 0 ? samples / records : 0.0;
 }
 
+size_t RecordRefinement::pathTracedCount(const IrradianceCache& cache) {
+    size_t count = 0;
+    for (uint32_t id = 0; id < cache.size(); ++id) count += cache.record(id).samples > 0;
+    return count;
+}
+
 }  // namespace gi

@@ -53,6 +53,8 @@ public:
     const RecordCounters& counters() const { return counters_; }  // records = record-rounds added
     // Mean samples of the cache's path-traced records (0 without any).
     static double meanSamples(const IrradianceCache& cache);
+    // How many of the cache's records are path-traced (refinable).
+    static size_t pathTracedCount(const IrradianceCache& cache);
 
 private:
     uint32_t cellsPerRound_;

@@ -298,6 +298,68 @@ TEST(Auto, SeparatesACachesNoiseFromItsBias) {
     EXPECT_NE(choice.summary().find(part), std::string::npos) << choice.summary();
 }
 
+// Two caches of the same camera samples (auto_pilots.cpp: common random numbers): batch k of each
+// has the same sample noise, sigma = 10 codes, and each cache its own offset of 2 codes (c2 = 4)
+// beside a bias of 2 codes (4 codes squared). Unpaired, c2 would be the means' difference less
+// both means' noise, 2 x 25 codes squared, each estimated to about 1%: within 1 either way. Paired,
+// the difference has no sample noise, and c2 is within 4 sigma of its estimate (the difference's
+// squared mean over n = 6144 values: 8 (1 +- 4 sqrt(2 / n))), 0.3. The mean's noise is then that
+// of one cache's (the batches' noise is shared), 25 and not 12.5: the bias holds only 4 if that is
+// counted, within 4 sigma of e (each value's (2 + d)^2 with d ~ N(0, 25 + 2): sqrt((4 * 4 * 27 + 2
+// * 27^2) / n) = 0.54, 4 sigma 2.2) and of the noises.
+TEST(Auto, PairsTheTwoCachesSamples) {
+    std::mt19937 rng(41);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    constexpr double kSigma = 10, kCacheSigma = 2, kBias = 2;
+    AutoPilot cache = syntheticPilot("irradianceCache", 0, 0, 0.1, 41);
+    cache.firstCacheBatches = kAutoPilotBatches / 2;
+    std::vector<double> first(kPilotPixels * 3), second(kPilotPixels * 3);
+    for (size_t i = 0; i < first.size(); ++i) {
+        first[i] = kBias + kCacheSigma * gauss(rng);
+        second[i] = kBias + kCacheSigma * gauss(rng);
+    }
+    const size_t pairs = kAutoPilotBatches / 2;
+    for (size_t k = 0; k < pairs; ++k)
+        for (size_t i = 0; i < first.size(); ++i) {
+            const double noise = kSigma * gauss(rng);
+            const double a = kTruth + first[i], b = kTruth + second[i];
+            cache.batches[k][i] = float(linearOf(a) + noise / slopeAt(a));
+            cache.batches[k + pairs][i] = float(linearOf(b) + noise / slopeAt(b));
+        }
+    AutoChoice choice = predictFromPilots({syntheticPilot("path", 0, 2, 0.1, 42), cache}, kPilotPixels,
+                                          4.0 * kPilotPixels, 4.0);
+    const AutoPrediction& p = prediction(choice, "irradianceCache");
+    EXPECT_NEAR(p.cacheNoise, kCacheSigma * kCacheSigma, 0.3);
+    EXPECT_NEAR(p.bias, kBias * kBias, 2.5);
+}
+
+// Refined records' own noise falls as 1 / their paths, which grow more slowly than the samples
+// where the render keeps making records (recordPathsShare). A pilot whose records have 100 paths,
+// 0.5 per pixel after 4 samples per pixel, growing as samples^0.2, 5 rays a path, 2 rays a sample:
+// at 1000 samples per pixel of 4 x its pixels the render's records are 0.5 x 8192 x 250^0.2 =
+// 12,358 with 2 x 1000 x 8192 / 5 / 12,358 = 265 paths each, so its cache noise is 100 / 265 of the
+// pilot's, where the samples' law said 4 batches x 0.001.
+TEST(Auto, RefinedRecordsNoiseFallsWithTheirPaths) {
+    auto fixed = [](size_t) { return 0.0; };
+    AutoPilot cache = twoCachePilot("irradianceCache", fixed, 1, 3, 0.1, 43);
+    cache.records = cache.refinesRecords = true;
+    cache.recordPaths = 100;
+    cache.recordsPerPixel = 0.5;
+    cache.recordGrowth = 0.2;
+    cache.recordRaysPerPath = 5;
+    cache.passRaysPerSample = 2;
+    cache.cacheSamples = 4;
+    // 400 s: r = 0.1 s / (400 s / 4) = 0.001 of a batch's samples, 1000 samples per pixel.
+    AutoChoice choice = predictFromPilots({syntheticPilot("path", 0, 1, 0.1, 44), cache}, kPilotPixels,
+                                          4.0 * kPilotPixels, 400.0);
+    const AutoPrediction& p = prediction(choice, "irradianceCache");
+    const double records = 0.5 * 4 * kPilotPixels * std::pow(1000.0 / 4, 0.2);
+    const double paths = 2 * 1000.0 * 4 * kPilotPixels / 5 / records;
+    EXPECT_NEAR(paths, 265, 1);
+    EXPECT_GT(p.cacheNoise, 8);
+    EXPECT_NEAR(p.predictedCacheNoise, p.cacheNoise * 100 / paths, 1e-6 * p.cacheNoise);
+}
+
 // A photon technique whose second cache traced 4x the first's photons: shares 0.05 and 0.2 of the
 // render's, so x = 20 and 5. Each batch's noise is a + b x codes squared (a = 1, b = 0.2: 5 and
 // 2), each cache's own noise 0.2 x (4 and 1), its bias 2 codes. At the render (x = 1, r = 0.1)
