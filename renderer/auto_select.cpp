@@ -175,7 +175,6 @@ double noiseAtTheRendersPhotons(double v1, double x1, double v2, double x2) {
     return a >= 0 ? a + b : v2 / x2;
 }
 
-
 // The pilot's refined records' mean paths over the render's, after `renderSamples` samples per
 // pixel of `pixels`: a record's noise goes as 1 / its paths. The render refines its records until
 // their rays match its passes' (record_refinement.h), so its records' paths are its passes' rays
@@ -184,7 +183,12 @@ double noiseAtTheRendersPhotons(double v1, double x1, double v2, double x2) {
 // Measured with fixed sample counts (irradianceCache, 160x120, passes' rays as the stats give):
 // Sponza's records grew 1.27-1.33x per 4x the samples from 4 to 4096 spp (5,258 to 19,520), so its
 // records' paths grew 1.4-2.2x (108 at the fill, 392 at 256 spp, 1,585 at 4096), not 4x; the
-// Cornell box's stayed at 1,506-1,528 and their paths grew 3.6-4.0x.
+// Cornell box's stayed at 1,506-1,528 and their paths grew 3.6-4.0x. Predicted from pilots at
+// 60 s: Sponza 806-900 paths at 1,300-1,600 spp, the Cornell box 3,700-4,100 at 1,100-1,300 (about
+// 7,000 reached: pessimistic). The parts are off in opposite ways: tiles hold about twice the
+// render's records per pixel (records at a tile's edge serve pixels outside it), growing faster
+// (samples^0.37 against 0.19 on Sponza), and the pilots' passes trace 6-11 rays a sample, most for
+// the records they make, against the render's 2. The growth is capped at 0.5 (records fill in).
 double recordPathsShare(const AutoPilot& pilot, double renderSamples, double pixels) {
     const double growth = std::pow(std::max(1.0, renderSamples / std::max(pilot.cacheSamples, 1e-3)),
                                    std::clamp(pilot.recordGrowth, 0.0, 0.5));
