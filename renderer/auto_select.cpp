@@ -190,6 +190,7 @@ double noiseAtTheRendersPhotons(double v1, double x1, double v2, double x2) {
 // (samples^0.37 against 0.19 on Sponza), and the pilots' passes trace 6-11 rays a sample, most for
 // the records they make, against the render's 2. The growth is capped at 0.5 (records fill in).
 double recordPathsShare(const AutoPilot& pilot, double renderSamples, double pixels) {
+    if (!(renderSamples > 0 && std::isfinite(renderSamples))) return 1.0;  // no rate measured: no shrink
     const double growth = std::pow(std::max(1.0, renderSamples / std::max(pilot.cacheSamples, 1e-3)),
                                    std::clamp(pilot.recordGrowth, 0.0, 0.5));
     const double records = std::max(1.0, pilot.recordsPerPixel * pixels * growth);
