@@ -418,15 +418,15 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                                     predictedNoise(firstCache, 1.0 / double(pairs), values) +
                                         predictedNoise(secondCache, 1.0 / double(pairs), values));
                 };
-                auto excess = [&](const std::vector<uint8_t>* values) {
-                    return std::max(0.0,
-                                    meanSquaredDifference(firstCodes, secondCodes, values) - differenceNoise(values));
+                auto excess = [&](const std::vector<uint8_t>* values, double noise) {
+                    return std::max(0.0, meanSquaredDifference(firstCodes, secondCodes, values) - noise);
                 };
+                const double keptDifferenceNoise = differenceNoise(&kept);
                 // A photon map's noise goes as 1 / its photons: each cache's as x_j, its photons'
                 // shortfall from the render's (1 / photonShare), and the first cache's is the
                 // difference's x_1 / (x_1 + x_2) (a half with alike caches).
                 const double firstShare = photonsShort.first / (photonsShort.first + photonsShort.second);
-                p.cacheNoise = excess(nullptr) * firstShare;
+                p.cacheNoise = excess(nullptr, differenceNoise(nullptr)) * firstShare;
                 // The mean of all batches, weighed by their samples, holds w_1^2 c_1 + w_2^2 c_2 of it.
                 double firstSamples = 0, allSamples = 0;
                 for (size_t b = 0; b < pilot.batches.size(); ++b) {
@@ -436,13 +436,14 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                 }
                 const double w1 = firstSamples / allSamples, w2 = 1 - w1;
                 // Over the bias's values:
-                meanCacheNoise = excess(&kept) * firstShare * (w1 * w1 + w2 * w2 * photonsShort.second / photonsShort.first);
+                meanCacheNoise = excess(&kept, keptDifferenceNoise) * firstShare *
+                                 (w1 * w1 + w2 * w2 * photonsShort.second / photonsShort.first);
                 // The caches share their samples, so the mean's noise has, beside each cache's own
                 // (keptNoise), 2 w_1 w_2 Cov(M_1, M_2), and Var(M_1 - M_2) = V_1 + V_2 - 2 Cov.
                 const double v1 = predictedNoise(cachePilot(pilot, 0, split), 1.0 / double(split), &kept),
                              v2 = predictedNoise(cachePilot(pilot, split, pilot.batches.size()),
                                                  1.0 / double(pilot.batches.size() - split), &kept);
-                sharedSampleNoise = w1 * w2 * std::max(0.0, v1 + v2 - differenceNoise(&kept));
+                sharedSampleNoise = w1 * w2 * std::max(0.0, v1 + v2 - keptDifferenceNoise);
             }
             p.bias = std::max(0.0, error - keptNoise[k] - sharedSampleNoise - meanCacheNoise);
             // R holds part of the photon map's own blur: against the path tracer it shows whole.
