@@ -10,7 +10,9 @@ side: the median ratio is reported with the lowest and highest, and the median r
 process CPU time per ray (Embree's over the renderer's), which other processes on a shared
 machine disturb less than wall time. Last, "Embree share": the render's own rays, recorded and cast
 through Embree alone, over the render's time; it bounds the ratio above a renderer could reach
-with free shading, for this scene's rays.
+with free shading, for this scene's rays. Beside it, how much faster Embree casts those same rays
+(CPU time) in wavefront order (waves of 1,024 paths, each step's rays together), one by one
+("wavefront") and as 8-wide packets ("packets8"): what tracing whole waves could gain in Embree.
 
     .venv/bin/python bench/rays.py [SCENE ...] [--spp 16] [--resolution 256 256] [--rounds 5]
 """
@@ -21,6 +23,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+REPLAY_ORDERS = ("render", "wavefront", "wavefront-packets8")
 
 
 def measure(scene_path, spp, resolution, threads, rounds):
@@ -54,12 +57,19 @@ def measure(scene_path, spp, resolution, threads, rounds):
     peak_mb = _core.peak_memory_bytes() / 2**20  # before the replay's recorded rays
     # Embree's share of the render: the render's own rays, recorded and cast through Embree alone
     # (a quarter of the samples keeps the recording's memory modest), in rounds as above.
+    # The same rays in wavefront order (waves of paths, each step's rays together), cast one by one
+    # and as Embree's 8-wide packets: what a wavefront renderer could gain in Embree.
     settings.spp = max(1, spp // 4)
     shares, cpu_shares = [], []
+    replay_cpu = {order: [] for order in REPLAY_ORDERS}
     for _ in range(rounds):
-        replay = _core.embree_replay_render_rays(scene, settings)
-        shares.append(replay["replay_seconds"] / replay["render_seconds"])
-        cpu_shares.append(replay["replay_cpu_seconds"] / replay["render_cpu_seconds"])
+        for order in REPLAY_ORDERS:
+            replay = _core.embree_replay_render_rays(scene, settings, order)
+            replay_cpu[order].append(replay["replay_cpu_seconds"])
+            if order == "render":
+                shares.append(replay["replay_seconds"] / replay["render_seconds"])
+                cpu_shares.append(replay["replay_cpu_seconds"] / replay["render_cpu_seconds"])
+    render_order = statistics.median(replay_cpu["render"])
     ratios = [r / e for r, e in zip(renderer_rps, embree_rps)]
     median = statistics.median_low(ratios)
     i = ratios.index(median)
@@ -78,6 +88,8 @@ def measure(scene_path, spp, resolution, threads, rounds):
         "peak_memory_mb": peak_mb,
         "embree_share": statistics.median(shares),
         "embree_share_cpu": statistics.median(cpu_shares),
+        # Embree's CPU time on the render's rays in render order over that in each order
+        "replay_speedup": {order: render_order / statistics.median(replay_cpu[order]) for order in REPLAY_ORDERS},
     }
 
 
@@ -92,14 +104,15 @@ def main(argv=None):
     args = parser.parse_args(argv)
     print(f"{'scene':<16} {'load s':>7} {'BVH s':>7} {'rays':>11} {'renderer rays/s':>16} "
           f"{'Embree rays/s':>14} {'ratio':>6} {'low-high':>10} {'CPU ratio':>9} {'samples/s':>11} {'peak MB':>8} "
-          f"{'Embree share':>12}")
+          f"{'Embree share':>12} {'wavefront':>9} {'packets8':>8}")
     for path in args.scenes:
         r = measure(path, args.spp, args.resolution, args.threads, max(1, args.rounds))
         print(f"{r['scene']:<16} {r['load_s']:>7.3f} {r['bvh_build_s']:>7.3f} {r['rays']:>11,} "
               f"{r['renderer_rays_per_s']:>16,.0f} {r['embree_rays_per_s']:>14,.0f} {r['ratio']:>6.2f} "
               f"{r['ratio_low']:>4.2f}-{r['ratio_high']:<4.2f} {r['cpu_ratio']:>9.2f} "
               f"{r['samples_per_s']:>11,.0f} {r['peak_memory_mb']:>8.0f} "
-              f"{r['embree_share']:>5.2f} ({r['embree_share_cpu']:.2f} CPU)")
+              f"{r['embree_share']:>5.2f} ({r['embree_share_cpu']:.2f} CPU) "
+              f"{r['replay_speedup']['wavefront']:>9.2f} {r['replay_speedup']['wavefront-packets8']:>8.2f}")
 
 
 if __name__ == "__main__":

@@ -1,11 +1,15 @@
 #include "ray_benchmark.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <chrono>
 #include <ctime>
+#include <limits>
+#include <tuple>
+#include <algorithm>
 #include <vector>
 
 #include "embree_ray.h"
@@ -31,12 +35,15 @@ struct PoolRay {
 std::vector<PoolRay> makeRayPool(const Scene& scene, uint64_t rays, uint32_t seed) {
     Vec3 lo = scene.boundsMin(), extent = scene.boundsMax() - scene.boundsMin();
     std::vector<PoolRay> pool(std::min<uint64_t>(rays, uint64_t(1) << 20));
-    tbb::parallel_for(size_t(0), pool.size(), size_t(4096), [&](size_t i) {
+    // (parallel_for's three-index form takes a step, not a grain: a blocked range, so that every ray is made.)
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pool.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
         Sampler sampler(seed);
-        sampler.startStream(0, uint32_t(i));
-        Vec2 u = sampler.get2D();
-        pool[i].o = lo + extent * Vec3(u.x, u.y, sampler.get1D());
-        pool[i].d = sampleUniformSphere(sampler.get2D());
+        for (size_t i = range.begin(); i < range.end(); ++i) {
+            sampler.startStream(0, uint32_t(i));
+            Vec2 u = sampler.get2D();
+            pool[i].o = lo + extent * Vec3(u.x, u.y, sampler.get1D());
+            pool[i].d = sampleUniformSphere(sampler.get2D());
+        }
     });
     return pool;
 }
@@ -76,7 +83,91 @@ RayBenchmarkResult castIncoherentRays(const Scene& scene, uint64_t rays, uint32_
     return r;
 }
 
-RenderReplayResult replayRenderRays(const Scene& scene, RenderSettings settings) {
+namespace {
+// The recorded rays in wavefront order: waves of kWavePaths consecutive paths (a camera ray
+// starts a path), within a wave all closest-hit rays by their index along the path (every path's
+// first, then every path's second, ...), then the shadow rays the same way.
+std::vector<RecordedRay> wavefrontOrder(const std::vector<RecordedRay>& rays) {
+    constexpr uint32_t kWavePaths = 1024;
+    struct Key {
+        uint32_t wave;
+        bool occlusion;
+        uint32_t step, path;
+        size_t index;
+    };
+    std::vector<Key> keys;
+    keys.reserve(rays.size());
+    uint32_t path = 0, steps[2] = {0, 0};
+    for (size_t i = 0; i < rays.size(); ++i) {
+        if (rays[i].camera && i > 0) path++, steps[0] = steps[1] = 0;
+        bool occlusion = rays[i].occlusion;
+        keys.push_back({path / kWavePaths, occlusion, steps[occlusion]++, path, i});
+    }
+    std::stable_sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
+        return std::tie(a.wave, a.occlusion, a.step, a.path) < std::tie(b.wave, b.occlusion, b.step, b.path);
+    });
+    std::vector<RecordedRay> ordered;
+    ordered.reserve(rays.size());
+    for (const Key& k : keys) ordered.push_back(rays[k.index]);
+    return ordered;
+}
+
+// Casts rays[begin, end) as 8-wide packets of consecutive rays of one kind (a kind change or the
+// end leaves lanes off). Returns the hits.
+uint64_t castPackets8(RTCScene rtc, RTCIntersectContext& context, const std::vector<RecordedRay>& rays,
+                      size_t begin, size_t end) {
+    uint64_t hits = 0;
+    alignas(32) RTCRayHit8 rh;
+    alignas(32) int valid[8];
+    for (size_t i = begin; i < end;) {
+        const bool occlusion = rays[i].occlusion;
+        int lanes = 0;
+        for (; lanes < 8 && i < end && rays[i].occlusion == occlusion; ++lanes, ++i) {
+            const RecordedRay& r = rays[i];
+            rh.ray.org_x[lanes] = r.o.x, rh.ray.org_y[lanes] = r.o.y, rh.ray.org_z[lanes] = r.o.z;
+            rh.ray.dir_x[lanes] = r.d.x, rh.ray.dir_y[lanes] = r.d.y, rh.ray.dir_z[lanes] = r.d.z;
+            rh.ray.tnear[lanes] = r.tMin;
+            rh.ray.tfar[lanes] = std::isfinite(r.tMax) ? r.tMax : std::numeric_limits<float>::max();
+            rh.ray.time[lanes] = r.time;
+            rh.ray.mask[lanes] = 0xffffffffu;
+            rh.ray.id[lanes] = 0;
+            rh.ray.flags[lanes] = 0;
+            rh.hit.geomID[lanes] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0][lanes] = RTC_INVALID_GEOMETRY_ID;
+            valid[lanes] = -1;
+        }
+        for (int k = lanes; k < 8; ++k) valid[k] = 0;
+        if (occlusion) {
+            rtcOccluded8(valid, rtc, &context, &rh.ray);
+            for (int k = 0; k < lanes; ++k) hits += rh.ray.tfar[k] < 0;
+        } else {
+            rtcIntersect8(valid, rtc, &context, &rh);
+            for (int k = 0; k < lanes; ++k) hits += rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+        }
+    }
+    return hits;
+}
+
+uint64_t castOneByOne(RTCScene rtc, RTCIntersectContext& context, const std::vector<RecordedRay>& rays,
+                      size_t begin, size_t end) {
+    uint64_t hits = 0;
+    for (size_t i = begin; i < end; ++i) {
+        const RecordedRay& r = rays[i];
+        if (r.occlusion) {
+            RTCRay ray = toEmbreeRay(r.o, r.d, r.tMin, r.tMax, r.time);
+            rtcOccluded1(rtc, &context, &ray);
+            hits += ray.tfar < 0;
+        } else {
+            RTCRayHit rh = toEmbreeRayHit(r.o, r.d, r.tMin, r.tMax, r.time);
+            rtcIntersect1(rtc, &context, &rh);
+            hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        }
+    }
+    return hits;
+}
+}  // namespace
+
+RenderReplayResult replayRenderRays(const Scene& scene, RenderSettings settings, RayReplay replay) {
     RenderReplayResult result;
     settings.recordRays = nullptr;
     {
@@ -93,8 +184,10 @@ RenderReplayResult replayRenderRays(const Scene& scene, RenderSettings settings)
         Renderer renderer(scene, settings);
         renderer.render();
     }
+    if (replay != RayReplay::RenderOrder) rays = wavefrontOrder(rays);
     RTCScene rtc = scene.embreeScene();
-    constexpr size_t kBatch = 4096;
+    // Batches are whole waves' worth of rays, so packets rarely straddle two waves.
+    constexpr size_t kBatch = 8192;
     tbb::enumerable_thread_specific<uint64_t> hits(0);
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
     double cpuStart = processCpuSeconds();
@@ -104,19 +197,9 @@ RenderReplayResult replayRenderRays(const Scene& scene, RenderSettings settings)
             RTCIntersectContext context;
             rtcInitIntersectContext(&context);
             context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-            uint64_t& h = hits.local();
-            for (size_t i = batch * kBatch, end = std::min(rays.size(), i + kBatch); i < end; ++i) {
-                const RecordedRay& r = rays[i];
-                if (r.occlusion) {
-                    RTCRay ray = toEmbreeRay(r.o, r.d, r.tMin, r.tMax, r.time);
-                    rtcOccluded1(rtc, &context, &ray);
-                    h += ray.tfar < 0;
-                } else {
-                    RTCRayHit rh = toEmbreeRayHit(r.o, r.d, r.tMin, r.tMax, r.time);
-                    rtcIntersect1(rtc, &context, &rh);
-                    h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-                }
-            }
+            size_t begin = batch * kBatch, end = std::min(rays.size(), begin + kBatch);
+            hits.local() += replay == RayReplay::WavefrontPackets8 ? castPackets8(rtc, context, rays, begin, end)
+                                                                    : castOneByOne(rtc, context, rays, begin, end);
         });
     });
     result.replay.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -800,7 +800,7 @@ Scene::PendingHit Scene::trace(const Ray& ray, RayStats& stats, bool cameraRay) 
     // A NaN ray (from a broken camera or a numerical accident upstream) hits nothing: Embree's
     // behaviour on it is undefined (its debug builds assert).
     if (!embreeValid(ray.o) || !embreeValid(ray.d) || std::isnan(ray.tMin) || std::isnan(ray.tMax)) return pending;
-    if (stats.record) stats.record->push_back({ray.o, ray.d, ray.tMin, ray.tMax, false, ray.time});
+    if (stats.record) stats.record->push_back({ray.o, ray.d, ray.tMin, ray.tMax, false, ray.time, cameraRay});
     // A ray that may meet masked shapes skips them by Embree's filter; only those rays pay for it.
     MaskContext context;
     initMaskContext(context, !staticMasked_.empty() && mayHitMasked(ray.o, ray.d, ray.tMax));

@@ -28,6 +28,7 @@ struct RecordedRay {
     float tMin, tMax;
     bool occlusion;  // rtcOccluded1 (shadow ray) rather than rtcIntersect1
     float time = 0;  // within the shutter (Ray::time)
+    bool camera = false;  // a camera ray: starts a path (wavefront-ordered replays use it)
 };
 
 struct RayStats {

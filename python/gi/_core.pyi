@@ -225,6 +225,12 @@ def display_transform(color: npt.NDArray[np.float32], display: str = "", view: s
 def embree_ray_benchmark(scene: Scene, rays: int, seed: int = 0, threads: int = 0) -> dict:
     """Embree alone: `rays` incoherent closest-hit rays in the committed scene -> {rays, hits, seconds, rays_per_second}."""
 
+def embree_replay_render_rays(scene: Scene, settings: RenderSettings, order: str = "render") -> dict:
+    """Renders once timed, once recording its rays, then casts those rays through Embree alone, in
+    `order`: 'render' (one by one, as rendered), 'wavefront' (waves of paths, each step's rays
+    together) or 'wavefront-packets8' (the same as 8-wide packets) -> {render_rays, render_seconds,
+    render_cpu_seconds, replay_rays, replay_seconds, replay_cpu_seconds}."""
+
 def peak_memory_bytes() -> int: ...
 
 class DenoiserUnavailable(RuntimeError):

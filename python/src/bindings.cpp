@@ -703,11 +703,17 @@ void bindRendering(nb::module_& m) {
         "scene"_a, "rays"_a, "seed"_a = 0, "threads"_a = 0);
     m.def(
         "embree_replay_render_rays",
-        [](Scene& scene, const PyRenderSettings& py) {
+        [](Scene& scene, const PyRenderSettings& py, const std::string& order) {
             RenderSettings settings = toRenderSettings(py);  // reads Python objects: before the GIL is released
+            RayReplay replay = order == "render" ? RayReplay::RenderOrder
+                               : order == "wavefront" ? RayReplay::Wavefront
+                               : order == "wavefront-packets8"
+                                   ? RayReplay::WavefrontPackets8
+                                   : throw std::invalid_argument("replay order '" + order +
+                                                                 "': expected render, wavefront or wavefront-packets8");
             nb::gil_scoped_release release;
             scene.commit();
-            RenderReplayResult r = replayRenderRays(scene, settings);
+            RenderReplayResult r = replayRenderRays(scene, settings, replay);
             return std::map<std::string, double>{{"render_rays", double(r.render.rays)},
                                                  {"render_seconds", r.render.seconds},
                                                  {"render_cpu_seconds", r.render.cpuSeconds},
@@ -715,9 +721,11 @@ void bindRendering(nb::module_& m) {
                                                  {"replay_seconds", r.replay.seconds},
                                                  {"replay_cpu_seconds", r.replay.cpuSeconds}};
         },
-        "scene"_a, "settings"_a,
+        "scene"_a, "settings"_a, "order"_a = "render",
         "Renders once timed, once recording its rays, then casts those rays through Embree alone: "
-        "replay_seconds / render_seconds is Embree's share of the render.");
+        "replay_seconds / render_seconds is Embree's share of the render. order: 'render' (one ray "
+        "at a time, as rendered), 'wavefront' (waves of paths, each step's rays together) or "
+        "'wavefront-packets8' (the same as Embree's 8-wide packets).");
 }
 
 }  // namespace
