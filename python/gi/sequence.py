@@ -17,12 +17,13 @@ from .loader import camera_at, load_stage, open_stage
 
 
 # What tracing through the kept static BVH costs, as a share of a frame's render time: it is
-# instanced once in the frame's top level, and rays entering it cost Embree 5-7% more (measured with
-# gi._core.embree_ray_benchmark, 1M incoherent rays, Sponza and Sibenik with a moving ball), Embree
-# being about a third of a render's time. Keeping BVHs pays while this share of the previous frame's
-# render time is less than the whole scene's build time (the first frame's), i.e. for short frames
-# (Sponza: under about 4 s); longer frames build one flat BVH as a frame rendered alone does.
-STATIC_BVH_TRACE_COST = 0.03
+# instanced once in the frame's top level, and rays entering it cost Embree 11-15% more (measured
+# with gi._core.embree_ray_benchmark, 1M incoherent rays, and with the render's own rays replayed,
+# Sponza and Sibenik with a moving ball, one thread), the path tracer's render 5-12% more. Keeping
+# BVHs pays while this share of the previous frame's render time is less than the whole scene's
+# build time (the first frame's), i.e. for short frames (Sponza: under about 1.5 s); longer frames
+# build one flat BVH as a frame rendered alone does.
+STATIC_BVH_TRACE_COST = 0.08
 
 
 @dataclass
