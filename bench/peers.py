@@ -21,12 +21,14 @@ shared: figures are from one run, alternating the renderers so that load changes
     .venv/bin/pip install -e '.[bench]'      # Mitsuba 3 (the `bench` extra)
     .venv/bin/python bench/peers.py [--scenes cornell,sponza,sibenik] [--width 128]
         [--converge-seconds 120] [--seconds 10] [--threads 2] [--best progressivePhotonMap]
-        [--mitsuba-variant scalar_rgb]
+        [--mitsuba-variant scalar_rgb] [--tracing-only]
 
 --mitsuba-variant scalar_rgb runs Mitsuba one path at a time, as gi does: what its vectorised
 LLVM variant gains over its own scalar code. Only for scenes without the specular-workflow BSDF
 (the Cornell box): that BSDF is Python (mitsuba_scene.py), which the LLVM variant compiles into
 its kernel once and the scalar variant would call per sample.
+
+--tracing-only compares the two renderers' ray casting alone (see tracing_rates).
 """
 import argparse
 import math
@@ -269,6 +271,42 @@ def report(result):
           f"{ratio('cpu_efficiency', best):.2f}")
 
 
+def tracing_rates(name, path, rays, threads, rounds=3):
+    """Closest-hit rays per CPU second through each renderer's own ray casting, the same rays:
+    uniform origins in the scene's box, uniform directions, built before either clock starts.
+    gi casts them through Embree one by one (as its integrators do); Mitsuba's kernel casts them
+    through its own Embree as its variant does (the LLVM one in 16-wide packets). Medians of
+    `rounds`, alternating."""
+    import drjit as dr
+    from gi import _core
+    gi_renderer = Gi(path, (32, 32), threads)
+    recorded, _ = mitsuba_scene.record(path)
+    scene, _ = mitsuba_scene.mitsuba_scene(recorded, (32, 32))
+    mi = mitsuba_scene.mitsuba()[0]
+    dr.set_thread_count(threads)
+    box = scene.bbox()
+    lo, hi = np.array(box.min, np.float64), np.array(box.max, np.float64)
+    rng = np.random.default_rng(1)
+    origins = (lo + (hi - lo) * rng.random((rays, 3))).astype(np.float32)
+    directions = rng.normal(size=(rays, 3))
+    directions = (directions / np.linalg.norm(directions, axis=1)[:, None]).astype(np.float32)
+    ray = mi.Ray3f(mi.Point3f(*(mi.Float(origins[:, k]) for k in range(3))),
+                   mi.Vector3f(*(mi.Float(directions[:, k]) for k in range(3))))
+    dr.eval(ray)
+    dr.eval(dr.count(scene.ray_intersect_preliminary(ray).is_valid()))  # compiles the kernel
+    gi_rates, mi_rates = [], []
+    for _ in range(rounds):
+        # gi's pool is its own (Sobol, same distribution), generated before its clock starts.
+        gi_rates.append(rays / _core.embree_ray_benchmark(gi_renderer.loaded.scene, rays, 1, threads)["cpu_seconds"])
+        with Clock() as clock:
+            hits = dr.count(scene.ray_intersect_preliminary(ray).is_valid())
+            dr.eval(hits)
+        mi_rates.append(rays / clock.cpu)
+    gi_rate, mi_rate = float(np.median(gi_rates)), float(np.median(mi_rates))
+    print(f"{name}: closest-hit rays per CPU second, {rays:,} rays, {threads} threads: gi {gi_rate / 1e6:.2f} M, "
+          f"Mitsuba {mi_rate / 1e6:.2f} M; gi / Mitsuba {gi_rate / mi_rate:.2f}")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--scenes", default="cornell,sponza,sibenik", help=f"comma-separated: {', '.join(SCENES)}")
@@ -281,6 +319,8 @@ def main(argv=None):
                         help="Mitsuba's variant (scalar_rgb: one path at a time; see above)")
     parser.add_argument("--memory-probe", choices=["gi", "mitsuba"], help=argparse.SUPPRESS)  # the probe's process
     parser.add_argument("--memory-only", action="store_true", help="only the memory figures")
+    parser.add_argument("--tracing-only", action="store_true",
+                        help="only each renderer's ray casting: closest-hit rays per CPU second, the same random rays")
     args = parser.parse_args(argv)
     mitsuba_scene.VARIANT = args.mitsuba_variant
     if args.memory_probe:
@@ -290,6 +330,10 @@ def main(argv=None):
         for name in args.scenes.split(","):
             print(name, {who: round(renderer_memory_mb(who, name, args.width, args.threads))
                          for who in ("gi", "mitsuba")}, "MB")
+        return 0
+    if args.tracing_only:
+        for name in args.scenes.split(","):
+            tracing_rates(name, SCENES[name], 1 << 21, args.threads)
         return 0
     import mitsuba
     print(f"gi against Mitsuba {mitsuba.__version__} ({mitsuba_scene.VARIANT}), {args.threads} threads, one run")
