@@ -360,7 +360,9 @@ void Scene::buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, i
     RTCGeometry g;
     // Moving shapes get one vertex buffer per time step (Embree's multi-segment motion blur).
     const size_t steps = s.isSphere ? s.stepCenters.size() : s.stepPositions.size();
-    if (s.isSphere) {
+    if (s.isSphere && !steps) {
+        g = newSphereGeometry(device_->device, *sphereStore_, s.center, s.radius);
+    } else if (s.isSphere) {
         g = rtcNewGeometry(device_->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
         if (steps) rtcSetGeometryTimeStepCount(g, unsigned(steps));
         for (size_t step = 0; step < std::max<size_t>(1, steps); ++step) {

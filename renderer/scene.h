@@ -16,6 +16,7 @@
 #include "camera.h"
 #include "image_cache.h"
 #include "light.h"
+#include "sphere_geometry.h"
 #include "material.h"
 #include "motion.h"
 
@@ -266,6 +267,9 @@ private:
     int defaultMaterial();
 
     std::shared_ptr<EmbreeDevice> device_;
+    // The static spheres' user-geometry data (sphere_geometry.h): also held by the BVHs later
+    // scenes keep, whose geometries point into it.
+    std::shared_ptr<SphereStore> sphereStore_ = std::make_shared<SphereStore>();
     RTCScene top_ = nullptr;
     std::unique_ptr<Previous> previous_;
     std::map<std::string, uint64_t> topFingerprints_;  // static top-level shapes with a name of their own

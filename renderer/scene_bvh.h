@@ -22,6 +22,7 @@ struct Scene::Bvh {
     size_t primitives = 0;               // triangles and spheres
     std::vector<size_t> geometryPrimitives;  // by geometry id
     std::vector<Bounds> geometryBounds;      // by geometry id (Scene::growByShape)
+    std::shared_ptr<const SphereStore> spheres;  // its sphere geometries' data: outlives `rtc`
     Bvh() = default;
     Bvh(const Bvh&) = delete;
     Bvh& operator=(const Bvh&) = delete;

@@ -99,6 +99,7 @@ std::shared_ptr<const Scene::Bvh> Scene::shapesBvh(const std::vector<int>& shape
         }
     }
     auto bvh = std::make_shared<Bvh>();
+    bvh->spheres = sphereStore_;
     bvh->rtc = rtcNewScene(device_->device);
     rtcSetSceneBuildQuality(bvh->rtc, RTC_BUILD_QUALITY_HIGH);
     rtcSetSceneFlags(bvh->rtc, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);  // masks (buildStaticBvh)
@@ -206,7 +207,7 @@ std::vector<int> Scene::shapesOutside(const std::vector<int>& top, const std::ve
 }
 
 void Scene::growByShape(const Shape& shape, Vec3& lo, Vec3& hi) {
-    if (shape.isSphere) {  // as Embree's sphere points: centre -+ radius
+    if (shape.isSphere) {  // as its geometry bounds it: centre -+ radius
         lo = vmin(lo, shape.center - Vec3(shape.radius));
         hi = vmax(hi, shape.center + Vec3(shape.radius));
         return;
@@ -237,6 +238,7 @@ std::shared_ptr<const Scene::Bvh> Scene::topLevelAsBvh() const {
     }
     rtcRetainScene(top_);
     bvh->rtc = top_;
+    bvh->spheres = sphereStore_;
     return bvh;
 }
 

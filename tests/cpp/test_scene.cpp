@@ -179,3 +179,23 @@ TEST(RayBenchmark, EveryIncoherentRayIsCast) {
     EXPECT_EQ(r.rays, 20000u);
     EXPECT_GE(r.hits, r.rays - r.rays / 1000);  // origins on a wall may leave through it
 }
+
+// From inside, a sphere's far side (glass: the ray refracted in); a ray starting past its near
+// crossing hits the far one; a grazing ray beside it misses; shadow rays stop at it.
+TEST(Scene, SphereFromInsideAndGrazing) {
+    Scene s;
+    s.addSphere("/Sphere", {0, 0, 0}, 0.5f, -1, nullptr, -1);
+    s.commit();
+    RayStats st;
+    Intersection inside = s.intersect(Ray{Vec3(0.1f, 0, 0), Vec3(0, -1, 0), 0, kInf}, st);
+    ASSERT_EQ(inside.kind, Intersection::Kind::Surface);
+    EXPECT_NEAR(inside.si.p.y, -std::sqrt(0.25f - 0.01f), 1e-5f);
+    EXPECT_NEAR(inside.t, std::sqrt(0.25f - 0.01f), 1e-5f);
+    Intersection pastNear = s.intersect(Ray{Vec3(0, 2, 0), Vec3(0, -1, 0), 1.6f, kInf}, st);
+    ASSERT_EQ(pastNear.kind, Intersection::Kind::Surface);
+    EXPECT_NEAR(pastNear.t, 2.5f, 1e-5f);
+    EXPECT_EQ(s.intersect(Ray{Vec3(0.5001f, 2, 0), Vec3(0, -1, 0), 0, kInf}, st).kind, Intersection::Kind::None);
+    EXPECT_TRUE(s.occluded(Vec3(0, 2, 0), Vec3(0, -1, 0), 1.6f, st));
+    EXPECT_FALSE(s.occluded(Vec3(0, 2, 0), Vec3(0, -1, 0), 1.4f, st));
+    EXPECT_FALSE(s.occluded(Vec3(0.5001f, 2, 0), Vec3(0, -1, 0), 4, st));
+}

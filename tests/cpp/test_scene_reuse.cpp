@@ -237,3 +237,29 @@ TEST(SceneReuse, FramesRebuildAStaticBvhRatherThanMaskIt) {
     alone->commit();
     expectAsBuiltAlone(*third, *alone);
 }
+
+// The ball (a sphere: user geometry, sphere_geometry.h) hidden by an edit stays in the kept static
+// BVH, masked: rays where it was reach the floor, shadow rays pass, and its data outlives the scene
+// that built it.
+TEST(SceneReuse, AHiddenSphereIsMaskedInTheKeptBvh) {
+    auto first = tiledRoom(nullptr);
+    first->commit();
+    const Vec3 ballTop(0.3f, 1, 0.4f);
+    RayStats st;
+    Intersection before = first->intersect(Ray{ballTop, Vec3(0, -1, 0), 0, kInf}, st);
+    ASSERT_EQ(before.kind, Intersection::Kind::Surface);
+    EXPECT_EQ(first->shapeName(before.si.shapeId), "/Ball");
+    EXPECT_NEAR(before.si.p.y, 0.65f, 1e-5f);
+    auto second = tiledRoom(first.get(), -1, -1, 0, false);
+    second->commit();
+    EXPECT_EQ(second->stats().primitivesMasked, 1u);
+    EXPECT_EQ(second->stats().primitivesBuilt, 0u);
+    first.reset();
+    Intersection after = second->intersect(Ray{ballTop, Vec3(0, -1, 0), 0, kInf}, st);
+    ASSERT_EQ(after.kind, Intersection::Kind::Surface);
+    EXPECT_EQ(second->shapeName(after.si.shapeId), "/Floor");
+    EXPECT_FALSE(second->occluded(ballTop, Vec3(0, -1, 0), 0.98f, st));
+    auto alone = tiledRoom(nullptr, -1, -1, 0, false);
+    alone->commit();
+    expectAsBuiltAlone(*second, *alone);
+}

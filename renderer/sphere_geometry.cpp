@@ -1,0 +1,126 @@
+#include "sphere_geometry.h"
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace gi {
+
+namespace {
+// The ray's two crossings with the sphere, nearer first; false when it passes by. The quadratic's
+// robust form (Haines et al., "Precision Improvements for Ray/Sphere Intersection", Ray Tracing
+// Gems ch. 7): the discriminant from the closest approach, and no cancellation in the roots.
+bool crossings(const SphereData& s, const Vec3& o, const Vec3& d, float& t0, float& t1) {
+    const Vec3 f = o - s.center;
+    const float a = dot(d, d), b = -dot(f, d);
+    const Vec3 closest = f + d * (b / a);
+    const float r2 = s.radius * s.radius, discriminant = r2 - dot(closest, closest);
+    if (!(discriminant >= 0)) return false;  // also false for a NaN
+    const float q = b + std::copysign(std::sqrt(a * discriminant), b);
+    t0 = (dot(f, f) - r2) / q;
+    t1 = q / a;
+    if (t0 > t1) std::swap(t0, t1);
+    return true;
+}
+
+// One lane of a ray packet as a single ray: the context's filter (Scene::skipMasked) sees each
+// candidate hit on its own.
+RTCRay laneRay(RTCRayN* rays, unsigned n, unsigned i) {
+    RTCRay r;
+    r.org_x = RTCRayN_org_x(rays, n, i), r.org_y = RTCRayN_org_y(rays, n, i), r.org_z = RTCRayN_org_z(rays, n, i);
+    r.dir_x = RTCRayN_dir_x(rays, n, i), r.dir_y = RTCRayN_dir_y(rays, n, i), r.dir_z = RTCRayN_dir_z(rays, n, i);
+    r.tnear = RTCRayN_tnear(rays, n, i), r.tfar = RTCRayN_tfar(rays, n, i);
+    r.time = RTCRayN_time(rays, n, i), r.mask = RTCRayN_mask(rays, n, i);
+    r.id = RTCRayN_id(rays, n, i), r.flags = RTCRayN_flags(rays, n, i);
+    return r;
+}
+
+void intersectSphere(const RTCIntersectFunctionNArguments* args) {
+    const SphereData& s = *static_cast<const SphereData*>(args->geometryUserPtr);
+    const unsigned n = args->N;
+    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, n);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, n);
+    for (unsigned i = 0; i < n; ++i) {
+        if (!args->valid[i]) continue;
+        RTCRay ray = laneRay(rays, n, i);
+        const Vec3 o(ray.org_x, ray.org_y, ray.org_z), d(ray.dir_x, ray.dir_y, ray.dir_z);
+        float t[2];
+        if (!crossings(s, o, d, t[0], t[1])) continue;
+        for (float candidate : t) {
+            if (!(candidate > ray.tnear && candidate < ray.tfar)) continue;
+            const Vec3 ng = o + d * candidate - s.center;
+            RTCHit hit;
+            hit.Ng_x = ng.x, hit.Ng_y = ng.y, hit.Ng_z = ng.z;
+            hit.u = hit.v = 0;
+            hit.primID = args->primID, hit.geomID = args->geomID;
+            hit.instID[0] = args->context->instID[0];
+            ray.tfar = candidate;  // the filter sees the candidate's distance, as Embree's own geometries do
+            int valid = -1;
+            RTCFilterFunctionNArguments filter{&valid, args->geometryUserPtr, args->context,
+                                               reinterpret_cast<RTCRayN*>(&ray), reinterpret_cast<RTCHitN*>(&hit), 1};
+            if (args->context->filter) rtcFilterIntersection(args, &filter);  // the geometry has no filter of its own
+            if (!valid) {
+                ray.tfar = RTCRayN_tfar(rays, n, i);
+                continue;  // refused (a masked shape): its far crossing may still count
+            }
+            RTCRayN_tfar(rays, n, i) = candidate;
+            RTCHitN_Ng_x(hits, n, i) = hit.Ng_x, RTCHitN_Ng_y(hits, n, i) = hit.Ng_y, RTCHitN_Ng_z(hits, n, i) = hit.Ng_z;
+            RTCHitN_u(hits, n, i) = 0, RTCHitN_v(hits, n, i) = 0;
+            RTCHitN_primID(hits, n, i) = hit.primID, RTCHitN_geomID(hits, n, i) = hit.geomID;
+            RTCHitN_instID(hits, n, i, 0) = hit.instID[0];
+            break;
+        }
+    }
+}
+
+void occludedBySphere(const RTCOccludedFunctionNArguments* args) {
+    const SphereData& s = *static_cast<const SphereData*>(args->geometryUserPtr);
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (!args->valid[i]) continue;
+        RTCRay ray = laneRay(args->ray, n, i);
+        const Vec3 o(ray.org_x, ray.org_y, ray.org_z), d(ray.dir_x, ray.dir_y, ray.dir_z);
+        float t[2];
+        if (!crossings(s, o, d, t[0], t[1])) continue;
+        for (float candidate : t) {
+            if (!(candidate > ray.tnear && candidate < ray.tfar)) continue;
+            const Vec3 ng = o + d * candidate - s.center;
+            RTCHit hit;
+            hit.Ng_x = ng.x, hit.Ng_y = ng.y, hit.Ng_z = ng.z;
+            hit.u = hit.v = 0;
+            hit.primID = args->primID, hit.geomID = args->geomID;
+            hit.instID[0] = args->context->instID[0];
+            const float tfar = ray.tfar;
+            ray.tfar = candidate;
+            int valid = -1;
+            RTCFilterFunctionNArguments filter{&valid, args->geometryUserPtr, args->context,
+                                               reinterpret_cast<RTCRayN*>(&ray), reinterpret_cast<RTCHitN*>(&hit), 1};
+            if (args->context->filter) rtcFilterOcclusion(args, &filter);
+            ray.tfar = tfar;
+            if (!valid) continue;
+            RTCRayN_tfar(args->ray, n, i) = -std::numeric_limits<float>::infinity();  // Embree's "occluded"
+            break;
+        }
+    }
+}
+}  // namespace
+
+RTCGeometry newSphereGeometry(RTCDevice device, SphereStore& store, const Vec3& center, float radius) {
+    store.push_back({center, radius});
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, 1);
+    rtcSetGeometryUserData(g, &store.back());
+    rtcSetGeometryBoundsFunction(
+        g,
+        [](const RTCBoundsFunctionArguments* args) {
+            const SphereData& s = *static_cast<const SphereData*>(args->geometryUserPtr);
+            *args->bounds_o = RTCBounds{s.center.x - s.radius, s.center.y - s.radius, s.center.z - s.radius, 0,
+                                        s.center.x + s.radius, s.center.y + s.radius, s.center.z + s.radius, 0};
+        },
+        nullptr);
+    rtcSetGeometryIntersectFunction(g, intersectSphere);
+    rtcSetGeometryOccludedFunction(g, occludedBySphere);
+    return g;
+}
+
+}  // namespace gi
