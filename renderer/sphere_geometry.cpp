@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 namespace gi {
@@ -35,72 +36,62 @@ RTCRay laneRay(RTCRayN* rays, unsigned n, unsigned i) {
     return r;
 }
 
-void intersectSphere(const RTCIntersectFunctionNArguments* args) {
+// The nearest of the lane's crossings in (tnear, tfar) that the context's filter accepts
+// (Scene::skipMasked: a masked shape's hits are refused, and then its far crossing is tried too):
+// its distance and hit record; false if none.
+template <typename Args>
+bool acceptedCrossing(const Args* args, RTCRay ray, float& t, RTCHit& hit) {
     const SphereData& s = *static_cast<const SphereData*>(args->geometryUserPtr);
+    const Vec3 o(ray.org_x, ray.org_y, ray.org_z), d(ray.dir_x, ray.dir_y, ray.dir_z);
+    float crossing[2];
+    if (!crossings(s, o, d, crossing[0], crossing[1])) return false;
+    const float tfar = ray.tfar;
+    for (float candidate : crossing) {
+        if (!(candidate > ray.tnear && candidate < tfar)) continue;
+        const Vec3 ng = o + d * candidate - s.center;
+        hit.Ng_x = ng.x, hit.Ng_y = ng.y, hit.Ng_z = ng.z;
+        hit.u = hit.v = 0;
+        hit.primID = args->primID, hit.geomID = args->geomID;
+        hit.instID[0] = args->context->instID[0];
+        if (args->context->filter) {  // the geometry has no filter of its own
+            ray.tfar = candidate;     // the filter sees the candidate's distance, as with Embree's geometries
+            int valid = -1;
+            RTCFilterFunctionNArguments filter{&valid, args->geometryUserPtr, args->context,
+                                               reinterpret_cast<RTCRayN*>(&ray), reinterpret_cast<RTCHitN*>(&hit), 1};
+            if constexpr (std::is_same_v<Args, RTCIntersectFunctionNArguments>)
+                rtcFilterIntersection(args, &filter);
+            else
+                rtcFilterOcclusion(args, &filter);
+            if (!valid) continue;
+        }
+        t = candidate;
+        return true;
+    }
+    return false;
+}
+
+void intersectSphere(const RTCIntersectFunctionNArguments* args) {
     const unsigned n = args->N;
     RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, n);
     RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, n);
     for (unsigned i = 0; i < n; ++i) {
-        if (!args->valid[i]) continue;
-        RTCRay ray = laneRay(rays, n, i);
-        const Vec3 o(ray.org_x, ray.org_y, ray.org_z), d(ray.dir_x, ray.dir_y, ray.dir_z);
-        float t[2];
-        if (!crossings(s, o, d, t[0], t[1])) continue;
-        for (float candidate : t) {
-            if (!(candidate > ray.tnear && candidate < ray.tfar)) continue;
-            const Vec3 ng = o + d * candidate - s.center;
-            RTCHit hit;
-            hit.Ng_x = ng.x, hit.Ng_y = ng.y, hit.Ng_z = ng.z;
-            hit.u = hit.v = 0;
-            hit.primID = args->primID, hit.geomID = args->geomID;
-            hit.instID[0] = args->context->instID[0];
-            ray.tfar = candidate;  // the filter sees the candidate's distance, as Embree's own geometries do
-            int valid = -1;
-            RTCFilterFunctionNArguments filter{&valid, args->geometryUserPtr, args->context,
-                                               reinterpret_cast<RTCRayN*>(&ray), reinterpret_cast<RTCHitN*>(&hit), 1};
-            if (args->context->filter) rtcFilterIntersection(args, &filter);  // the geometry has no filter of its own
-            if (!valid) {
-                ray.tfar = RTCRayN_tfar(rays, n, i);
-                continue;  // refused (a masked shape): its far crossing may still count
-            }
-            RTCRayN_tfar(rays, n, i) = candidate;
-            RTCHitN_Ng_x(hits, n, i) = hit.Ng_x, RTCHitN_Ng_y(hits, n, i) = hit.Ng_y, RTCHitN_Ng_z(hits, n, i) = hit.Ng_z;
-            RTCHitN_u(hits, n, i) = 0, RTCHitN_v(hits, n, i) = 0;
-            RTCHitN_primID(hits, n, i) = hit.primID, RTCHitN_geomID(hits, n, i) = hit.geomID;
-            RTCHitN_instID(hits, n, i, 0) = hit.instID[0];
-            break;
-        }
+        float t;
+        RTCHit hit;
+        if (!args->valid[i] || !acceptedCrossing(args, laneRay(rays, n, i), t, hit)) continue;
+        RTCRayN_tfar(rays, n, i) = t;
+        RTCHitN_Ng_x(hits, n, i) = hit.Ng_x, RTCHitN_Ng_y(hits, n, i) = hit.Ng_y, RTCHitN_Ng_z(hits, n, i) = hit.Ng_z;
+        RTCHitN_u(hits, n, i) = 0, RTCHitN_v(hits, n, i) = 0;
+        RTCHitN_primID(hits, n, i) = hit.primID, RTCHitN_geomID(hits, n, i) = hit.geomID;
+        RTCHitN_instID(hits, n, i, 0) = hit.instID[0];
     }
 }
 
 void occludedBySphere(const RTCOccludedFunctionNArguments* args) {
-    const SphereData& s = *static_cast<const SphereData*>(args->geometryUserPtr);
-    const unsigned n = args->N;
-    for (unsigned i = 0; i < n; ++i) {
-        if (!args->valid[i]) continue;
-        RTCRay ray = laneRay(args->ray, n, i);
-        const Vec3 o(ray.org_x, ray.org_y, ray.org_z), d(ray.dir_x, ray.dir_y, ray.dir_z);
-        float t[2];
-        if (!crossings(s, o, d, t[0], t[1])) continue;
-        for (float candidate : t) {
-            if (!(candidate > ray.tnear && candidate < ray.tfar)) continue;
-            const Vec3 ng = o + d * candidate - s.center;
-            RTCHit hit;
-            hit.Ng_x = ng.x, hit.Ng_y = ng.y, hit.Ng_z = ng.z;
-            hit.u = hit.v = 0;
-            hit.primID = args->primID, hit.geomID = args->geomID;
-            hit.instID[0] = args->context->instID[0];
-            const float tfar = ray.tfar;
-            ray.tfar = candidate;
-            int valid = -1;
-            RTCFilterFunctionNArguments filter{&valid, args->geometryUserPtr, args->context,
-                                               reinterpret_cast<RTCRayN*>(&ray), reinterpret_cast<RTCHitN*>(&hit), 1};
-            if (args->context->filter) rtcFilterOcclusion(args, &filter);
-            ray.tfar = tfar;
-            if (!valid) continue;
-            RTCRayN_tfar(args->ray, n, i) = -std::numeric_limits<float>::infinity();  // Embree's "occluded"
-            break;
-        }
+    for (unsigned i = 0; i < args->N; ++i) {
+        float t;
+        RTCHit hit;
+        if (args->valid[i] && acceptedCrossing(args, laneRay(args->ray, args->N, i), t, hit))
+            RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();  // Embree's "occluded"
     }
 }
 }  // namespace
