@@ -1,7 +1,7 @@
 // Static spheres as Embree user geometry: an exact ray-sphere test of our own. Embree 3.13's
 // sphere points (RTC_GEOMETRY_TYPE_SPHERE_POINT) cost each ray about 46 ns on the Cornell box's
 // one sphere, more than its ten quads together (bench/peers.py --tracing-only, one thread: 9.3 M
-// rays per second with it, 16.2 M without); this geometry about 30 ns (10.9 M), and the path
+// rays per second with it, 16.2 M without); this geometry 30-37 ns (10.1-10.9 M, runs apart), and the path
 // tracer's Cornell box about 5% less time. Moving spheres keep Embree's, which interpolates their
 // time steps.
 #pragma once
