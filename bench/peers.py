@@ -301,6 +301,7 @@ def tracing_rates(name, path, rays, threads, rounds=3):
         with Clock() as clock:
             hits = dr.count(scene.ray_intersect_preliminary(ray).is_valid())
             dr.eval(hits)
+            dr.sync_thread()  # with more than one thread, kernels run asynchronously
         mi_rates.append(rays / clock.cpu)
     gi_rate, mi_rate = float(np.median(gi_rates)), float(np.median(mi_rates))
     print(f"{name}: closest-hit rays per CPU second, {rays:,} rays, {threads} threads: gi {gi_rate / 1e6:.2f} M, "
