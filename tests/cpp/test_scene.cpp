@@ -142,6 +142,8 @@ TEST(RayReplay, RecordsEveryRayTheRenderCasts) {
     int white = scene.addMaterial(lambert(Color(0.7f)));
     addQuad(scene, "/Floor", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, white);
     addQuad(scene, "/Wall", {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, white);
+    // A sphere: its geometry (sphere_geometry.h) then answers 8-wide packets too.
+    scene.addSphere("/Ball", {0.3f, 0.3f, 0}, 0.3f, white, nullptr, -1);
     scene.addLight(sphereLight("/Light", {0, 1.5f, 0}, 0.2f, 5));
     scene.setCamera(lookingDown({0, 3, 0.5f}, false, 30));
     scene.commit();
