@@ -37,4 +37,18 @@ inline RTCRayHit toEmbreeRayHit(const Vec3& o, const Vec3& d, float tMin, float 
     return rh;
 }
 
+// One lane of an 8-wide packet set from a single ray (toEmbreeRayHit's fields, so both follow one rule).
+inline void setPacketLane(RTCRayHit8& packet, int lane, const RTCRayHit& rh) {
+    packet.ray.org_x[lane] = rh.ray.org_x, packet.ray.org_y[lane] = rh.ray.org_y, packet.ray.org_z[lane] = rh.ray.org_z;
+    packet.ray.dir_x[lane] = rh.ray.dir_x, packet.ray.dir_y[lane] = rh.ray.dir_y, packet.ray.dir_z[lane] = rh.ray.dir_z;
+    packet.ray.tnear[lane] = rh.ray.tnear;
+    packet.ray.tfar[lane] = rh.ray.tfar;
+    packet.ray.time[lane] = rh.ray.time;
+    packet.ray.mask[lane] = rh.ray.mask;
+    packet.ray.id[lane] = rh.ray.id;
+    packet.ray.flags[lane] = rh.ray.flags;
+    packet.hit.geomID[lane] = rh.hit.geomID;
+    packet.hit.instID[0][lane] = rh.hit.instID[0];
+}
+
 }  // namespace gi

@@ -103,7 +103,8 @@ std::vector<RecordedRay> wavefrontOrder(const std::vector<RecordedRay>& rays) {
         bool occlusion = rays[i].occlusion;
         keys.push_back({path / kWavePaths, occlusion, steps[occlusion]++, path, i});
     }
-    std::stable_sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
+    // (path, kind, step) names one ray: the keys are distinct, so any sort gives this order.
+    std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
         return std::tie(a.wave, a.occlusion, a.step, a.path) < std::tie(b.wave, b.occlusion, b.step, b.path);
     });
     std::vector<RecordedRay> ordered;
@@ -124,16 +125,7 @@ uint64_t castPackets8(RTCScene rtc, RTCIntersectContext& context, const std::vec
         int lanes = 0;
         for (; lanes < 8 && i < end && rays[i].occlusion == occlusion; ++lanes, ++i) {
             const RecordedRay& r = rays[i];
-            rh.ray.org_x[lanes] = r.o.x, rh.ray.org_y[lanes] = r.o.y, rh.ray.org_z[lanes] = r.o.z;
-            rh.ray.dir_x[lanes] = r.d.x, rh.ray.dir_y[lanes] = r.d.y, rh.ray.dir_z[lanes] = r.d.z;
-            rh.ray.tnear[lanes] = r.tMin;
-            rh.ray.tfar[lanes] = std::isfinite(r.tMax) ? r.tMax : std::numeric_limits<float>::max();
-            rh.ray.time[lanes] = r.time;
-            rh.ray.mask[lanes] = 0xffffffffu;
-            rh.ray.id[lanes] = 0;
-            rh.ray.flags[lanes] = 0;
-            rh.hit.geomID[lanes] = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0][lanes] = RTC_INVALID_GEOMETRY_ID;
+            setPacketLane(rh, lanes, toEmbreeRayHit(r.o, r.d, r.tMin, r.tMax, r.time));
             valid[lanes] = -1;
         }
         for (int k = lanes; k < 8; ++k) valid[k] = 0;
