@@ -1,5 +1,5 @@
 // The Scene's Embree objects that consecutive scenes share (Scene::reuseBvhOf): those of a frame
-// sequence, or of an interactive session's edits. Internal to scene.cpp and scene_reuse.cpp.
+// sequence, or of an interactive session's edits. Internal to scene.cpp, scene_queries.cpp and scene_reuse.cpp.
 #pragma once
 #include <atomic>
 
