@@ -70,8 +70,9 @@ RayBenchmarkResult castIncoherentRays(const Scene& scene, uint64_t rays, uint32_
             for (uint64_t i = batch * kBatch; i < end; ++i) {
                 const PoolRay& r = pool[i % pool.size()];
                 RTCRayHit rh = toEmbreeRayHit(r.o, r.d, 0, kInf);
+                const bool sphere = scene.nearestDirectSphere(r.o, r.d, 0, &rh.ray.tfar) >= 0;  // as Scene::trace
                 rtcIntersect1(rtc, &context, &rh);
-                h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+                h += sphere || rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
             }
         });
     });
@@ -115,44 +116,51 @@ std::vector<RecordedRay> wavefrontOrder(const std::vector<RecordedRay>& rays) {
 
 // Casts rays[begin, end) as 8-wide packets of consecutive rays of one kind (a kind change or the
 // end leaves lanes off). Returns the hits.
-uint64_t castPackets8(RTCScene rtc, RTCIntersectContext& context, const std::vector<RecordedRay>& rays,
-                      size_t begin, size_t end) {
+uint64_t castPackets8(const Scene& scene, RTCScene rtc, RTCIntersectContext& context,
+                      const std::vector<RecordedRay>& rays, size_t begin, size_t end) {
     uint64_t hits = 0;
     alignas(32) RTCRayHit8 rh;
     alignas(32) int valid[8];
+    bool sphere[8];
     for (size_t i = begin; i < end;) {
         const bool occlusion = rays[i].occlusion;
         int lanes = 0;
         for (; lanes < 8 && i < end && rays[i].occlusion == occlusion; ++lanes, ++i) {
             const RecordedRay& r = rays[i];
-            setPacketLane(rh, lanes, toEmbreeRayHit(r.o, r.d, r.tMin, r.tMax, r.time));
+            RTCRayHit single = toEmbreeRayHit(r.o, r.d, r.tMin, r.tMax, r.time);
+            // The direct spheres as Scene::trace and Scene::occluded test them, lane by lane.
+            sphere[lanes] = occlusion ? scene.directSphereBlocks(r.o, r.d, single.ray.tfar)
+                                      : scene.nearestDirectSphere(r.o, r.d, r.tMin, &single.ray.tfar) >= 0;
+            setPacketLane(rh, lanes, single);
             valid[lanes] = -1;
         }
         for (int k = lanes; k < 8; ++k) valid[k] = 0;
         if (occlusion) {
             rtcOccluded8(valid, rtc, &context, &rh.ray);
-            for (int k = 0; k < lanes; ++k) hits += rh.ray.tfar[k] < 0;
+            for (int k = 0; k < lanes; ++k) hits += sphere[k] || rh.ray.tfar[k] < 0;
         } else {
             rtcIntersect8(valid, rtc, &context, &rh);
-            for (int k = 0; k < lanes; ++k) hits += rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+            for (int k = 0; k < lanes; ++k) hits += sphere[k] || rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
         }
     }
     return hits;
 }
 
-uint64_t castOneByOne(RTCScene rtc, RTCIntersectContext& context, const std::vector<RecordedRay>& rays,
-                      size_t begin, size_t end) {
+uint64_t castOneByOne(const Scene& scene, RTCScene rtc, RTCIntersectContext& context,
+                      const std::vector<RecordedRay>& rays, size_t begin, size_t end) {
     uint64_t hits = 0;
     for (size_t i = begin; i < end; ++i) {
         const RecordedRay& r = rays[i];
         if (r.occlusion) {
             RTCRay ray = toEmbreeRay(r.o, r.d, r.tMin, r.tMax, r.time);
+            const bool sphere = scene.directSphereBlocks(r.o, r.d, ray.tfar);  // as Scene::occluded
             rtcOccluded1(rtc, &context, &ray);
-            hits += ray.tfar < 0;
+            hits += sphere || ray.tfar < 0;
         } else {
             RTCRayHit rh = toEmbreeRayHit(r.o, r.d, r.tMin, r.tMax, r.time);
+            const bool sphere = scene.nearestDirectSphere(r.o, r.d, r.tMin, &rh.ray.tfar) >= 0;  // as Scene::trace
             rtcIntersect1(rtc, &context, &rh);
-            hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+            hits += sphere || rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         }
     }
     return hits;
@@ -190,8 +198,8 @@ RenderReplayResult replayRenderRays(const Scene& scene, RenderSettings settings,
             rtcInitIntersectContext(&context);
             context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
             size_t begin = batch * kBatch, end = std::min(rays.size(), begin + kBatch);
-            hits.local() += replay == RayReplay::WavefrontPackets8 ? castPackets8(rtc, context, rays, begin, end)
-                                                                    : castOneByOne(rtc, context, rays, begin, end);
+            hits.local() += replay == RayReplay::WavefrontPackets8 ? castPackets8(scene, rtc, context, rays, begin, end)
+                                                                    : castOneByOne(scene, rtc, context, rays, begin, end);
         });
     });
     result.replay.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

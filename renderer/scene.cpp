@@ -375,6 +375,15 @@ void Scene::buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, i
     geomToShape[geomId] = shapeId;
 }
 
+void Scene::chooseDirectSpheres(std::vector<int>& top) {
+    auto isDirect = [&](int i) { return shapes_[size_t(i)].isSphere && shapes_[size_t(i)].stepCenters.empty(); };
+    const size_t spheres = size_t(std::count_if(top.begin(), top.end(), isDirect));
+    if (spheres == 0 || spheres > kDirectSpheres) return;
+    for (int i : top)
+        if (isDirect(i)) directSpheres_.push_back({SphereData{shapes_[size_t(i)].center, shapes_[size_t(i)].radius}, i});
+    top.erase(std::remove_if(top.begin(), top.end(), isDirect), top.end());
+}
+
 void Scene::commit() {
     if (committed_) return;
     auto start = std::chrono::steady_clock::now();
@@ -385,7 +394,9 @@ void Scene::commit() {
     top_ = rtcNewScene(device_->device);
     rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_HIGH);
     rtcSetSceneFlags(top_, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);  // the next scene may mask it (topLevelAsBvh)
-    for (int i : buildStaticBvh(fingerprints)) buildShapeGeometry(top_, topGeomToShape_, i);
+    std::vector<int> topShapes = buildStaticBvh(fingerprints);
+    chooseDirectSpheres(topShapes);
+    for (int i : topShapes) buildShapeGeometry(top_, topGeomToShape_, i);
     std::map<std::string, int> prototypeUses;
     for (const Prototype& p : prototypes_) prototypeUses[p.name]++;
     for (Prototype& p : prototypes_) {
@@ -462,6 +473,7 @@ void Scene::commit() {
     stats_.instances = instances_.size();
     stats_.prototypes = prototypes_.size();
     if (staticMasked_.empty()) topBounds(lo, hi);
+    for (const DirectSphere& s : directSpheres_) growByShape(shapes_[size_t(s.shape)], lo, hi);  // not in top_
     if (isFinite(lo) && isFinite(hi) && hi.x >= lo.x) {
         boundsMin_ = lo;
         boundsMax_ = hi;

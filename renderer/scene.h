@@ -170,6 +170,15 @@ public:
     void shareImages(std::shared_ptr<ImageCache> images) { sharedImages_ = std::move(images); }
     RTCScene embreeScene() const { return top_; }
     RTCDevice embreeDevice() const;
+    // Up to kDirectSpheres static spheres of the top level are not in embreeScene(): they are
+    // tested one by one beside it, since Embree's call of a user geometry cost the Cornell box's
+    // rays more than the test itself (its path tracer took 14% less time so, README); more go into
+    // it. Whoever casts rays through embreeScene() must test them too: the nearest crossing in
+    // (tMin, *tMax) lowers *tMax to it and returns the sphere's shape; -1 if none.
+    static constexpr size_t kDirectSpheres = 4;
+    int nearestDirectSphere(const Vec3& o, const Vec3& d, float tMin, float* tMax) const;
+    // Whether one of them crosses the segment (0, distance) of the ray.
+    bool directSphereBlocks(const Vec3& o, const Vec3& d, float distance) const;
 
 private:
     struct Shape {
@@ -219,6 +228,9 @@ private:
     // commit()'s top level: the static BVH (reused or built) and the shapes left out of it.
     std::vector<int> buildStaticBvh(const std::vector<uint64_t>& fingerprints);
     std::vector<int> shapesOutside(const std::vector<int>& top, const std::vector<int>& inStatic) const;
+    // Moves the static spheres of `top` (the shapes the top level builds) to directSpheres_ when
+    // they are at most kDirectSpheres.
+    void chooseDirectSpheres(std::vector<int>& top);
     // A reused static BVH is rebuilt once the shapes it masks hold more than this share of its
     // primitives (their traversal is wasted work for every ray).
     static constexpr double kMaskedShare = 0.25;
@@ -270,6 +282,13 @@ private:
     // The static spheres' user-geometry data (sphere_geometry.h): also held by the BVHs later
     // scenes keep, whose geometries point into it.
     std::shared_ptr<SphereStore> sphereStore_ = std::make_shared<SphereStore>();
+    // The top level's direct spheres (kDirectSpheres): never in a BVH a later scene keeps, so
+    // never masked.
+    struct DirectSphere {
+        SphereData sphere;
+        int shape;
+    };
+    std::vector<DirectSphere> directSpheres_;
     RTCScene top_ = nullptr;
     std::unique_ptr<Previous> previous_;
     std::map<std::string, uint64_t> topFingerprints_;  // static top-level shapes with a name of their own

@@ -7,6 +7,7 @@
 #include "embree_ray.h"
 #include "scene.h"
 #include "scene_bvh.h"
+#include "sphere_geometry.h"
 
 namespace gi {
 
@@ -239,6 +240,8 @@ Scene::PendingHit Scene::trace(const Ray& ray, RayStats& stats, bool cameraRay) 
     initMaskContext(context, !staticMasked_.empty() && mayHitMasked(ray.o, ray.d, ray.tMax));
     RTCRayHit& rh = pending.rh;
     rh = toEmbreeRayHit(ray.o, ray.d, ray.tMin, ray.tMax, ray.time);
+    // The direct spheres first: a hit on one shortens the ray Embree traverses.
+    const int sphere = nearestDirectSphere(ray.o, ray.d, ray.tMin, &rh.ray.tfar);
     rtcIntersect1(top_, &context.embree, &rh);
     Intersection& result = pending.hit;
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
@@ -247,6 +250,11 @@ Scene::PendingHit Scene::trace(const Ray& ray, RayStats& stats, bool cameraRay) 
         pending.shape = hitShape(rh.hit, &pending.instance);
         const Shape& s = shapes_[pending.shape];
         if (!s.isSphere) __builtin_prefetch(&s.indices[3 * size_t(rh.hit.primID)]);
+    } else if (sphere >= 0) {
+        result.kind = Intersection::Kind::Surface;
+        result.t = rh.ray.tfar;
+        rh.hit.primID = 0;
+        pending.shape = sphere;
     }
     // Area lights are analytic: tested after the surface BVH, up to the surface hit.
     intersectAnalyticLights(ray, cameraRay, result);
@@ -271,6 +279,30 @@ Intersection Scene::finish(const Ray& ray, const PendingHit& pending) const {
     return result;
 }
 
+int Scene::nearestDirectSphere(const Vec3& o, const Vec3& d, float tMin, float* tMax) const {
+    int nearest = -1;
+    for (const DirectSphere& s : directSpheres_) {
+        float crossing[2];
+        if (!sphereCrossings(s.sphere, o, d, crossing[0], crossing[1])) continue;
+        for (float t : crossing)  // the nearer first; the farther when the ray starts past it (inside)
+            if (t > tMin && t < *tMax) {
+                *tMax = t;
+                nearest = s.shape;
+                break;
+            }
+    }
+    return nearest;
+}
+
+bool Scene::directSphereBlocks(const Vec3& o, const Vec3& d, float distance) const {
+    for (const DirectSphere& s : directSpheres_) {
+        float t0, t1;
+        if (sphereCrossings(s.sphere, o, d, t0, t1) && ((t0 > 0 && t0 < distance) || (t1 > 0 && t1 < distance)))
+            return true;
+    }
+    return false;
+}
+
 int Scene::hitShape(const RTCHit& h, int* instance) const {
     if (h.instID[0] == RTC_INVALID_GEOMETRY_ID) return topGeomToShape_[h.geomID];
     if (h.instID[0] == staticBvhGeom_) return staticBvhToShape_[h.geomID];
@@ -284,6 +316,7 @@ bool Scene::occluded(const Vec3& origin, const Vec3& dir, float distance, RaySta
     if (stats.record) stats.record->push_back({origin, dir, 0, distance, true, time});
     MaskContext context;
     initMaskContext(context, !staticMasked_.empty() && mayHitMasked(origin, dir, distance));
+    if (directSphereBlocks(origin, dir, distance)) return true;
     RTCRay r = toEmbreeRay(origin, dir, 0, distance, time);
     rtcOccluded1(top_, &context.embree, &r);
     return r.tfar < 0;  // Embree sets tfar to -inf on a hit

@@ -3,6 +3,7 @@
 // their BVH is built from (points, indices, sphere centre and radius, motion steps), so a change a
 // host does not announce is still caught. Materials, normals and uvs are not BVH inputs: shading
 // reads them from the new scene's own shapes.
+#include <algorithm>
 #include <cstring>
 #include <set>
 #include <stdexcept>
@@ -181,11 +182,15 @@ std::vector<int> Scene::buildStaticBvh(const std::vector<uint64_t>& fingerprints
         }
     }
     // Else a new static BVH of the shapes unchanged since the previous scene (built once, then
-    // kept while they stay so).
+    // kept while they stay so). Spheres the top level tests beside its BVH (chooseDirectSpheres)
+    // stay out of it.
+    const auto staticSphere = [&](int i) { return shapes_[size_t(i)].isSphere && shapes_[size_t(i)].stepCenters.empty(); };
+    const bool spheresDirect = size_t(std::count_if(top.begin(), top.end(), staticSphere)) <= kDirectSpheres;
     std::vector<int> members;
     for (int i : top) {
         auto it = previous_->topFingerprints.find(shapes_[i].name);
-        if (isStatic(i) && it != previous_->topFingerprints.end() && it->second == fingerprints[i])
+        if (isStatic(i) && !(spheresDirect && staticSphere(i)) && it != previous_->topFingerprints.end() &&
+            it->second == fingerprints[i])
             members.push_back(i);
     }
     if (members.empty()) return top;

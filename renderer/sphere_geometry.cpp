@@ -8,22 +8,6 @@
 namespace gi {
 
 namespace {
-// The ray's two crossings with the sphere, nearer first; false when it passes by. The quadratic's
-// robust form (Haines et al., "Precision Improvements for Ray/Sphere Intersection", Ray Tracing
-// Gems ch. 7): the discriminant from the closest approach, and no cancellation in the roots.
-bool crossings(const SphereData& s, const Vec3& o, const Vec3& d, float& t0, float& t1) {
-    const Vec3 f = o - s.center;
-    const float a = dot(d, d), b = -dot(f, d);
-    const Vec3 closest = f + d * (b / a);
-    const float r2 = s.radius * s.radius, discriminant = r2 - dot(closest, closest);
-    if (!(discriminant >= 0)) return false;  // also false for a NaN
-    const float q = b + std::copysign(std::sqrt(a * discriminant), b);
-    t0 = (dot(f, f) - r2) / q;
-    t1 = q / a;
-    if (t0 > t1) std::swap(t0, t1);
-    return true;
-}
-
 // One lane of a ray packet as a single ray: the context's filter (Scene::skipMasked) sees each
 // candidate hit on its own.
 RTCRay laneRay(RTCRayN* rays, unsigned n, unsigned i) {
@@ -44,7 +28,7 @@ bool acceptedCrossing(const Args* args, RTCRay ray, float& t, RTCHit& hit) {
     const SphereData& s = *static_cast<const SphereData*>(args->geometryUserPtr);
     const Vec3 o(ray.org_x, ray.org_y, ray.org_z), d(ray.dir_x, ray.dir_y, ray.dir_z);
     float crossing[2];
-    if (!crossings(s, o, d, crossing[0], crossing[1])) return false;
+    if (!sphereCrossings(s, o, d, crossing[0], crossing[1])) return false;
     const float tfar = ray.tfar;
     for (float candidate : crossing) {
         if (!(candidate > ray.tnear && candidate < tfar)) continue;

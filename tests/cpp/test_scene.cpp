@@ -55,6 +55,50 @@ TEST(Scene, ExactSphereHitAndNormal) {
     EXPECT_NEAR(hit.si.ng.x, 0.1f / 0.4f, 1e-4f);
 }
 
+// Up to Scene::kDirectSpheres static spheres are tested beside the BVH, more go into it as user
+// geometry: both ways give the same hits, bit for bit, and the same shadow-ray answers.
+TEST(Scene, AFewSpheresBesideTheBvhHitAsInIt) {
+    auto build = [](int extraSpheres) {
+        auto s = std::make_unique<Scene>();
+        addQuad(*s, "/Floor", {-2, 0, -2}, {-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, -1);
+        s->addSphere("/Ball", {0.2f, 0.5f, -0.1f}, 0.45f, -1, nullptr, -1);
+        for (int i = 0; i < extraSpheres; ++i)  // far from every ray below
+            s->addSphere("/Far" + std::to_string(i), {50.0f + 3 * float(i), 50, 50}, 1, -1, nullptr, -1);
+        s->commit();
+        return s;
+    };
+    auto beside = build(0), inside = build(int(Scene::kDirectSpheres));
+    EXPECT_EQ(beside->stats().primitivesBuilt, 2u);  // the floor: the ball is not in the BVH
+    EXPECT_EQ(inside->stats().primitivesBuilt, 2u + 1u + Scene::kDirectSpheres);
+    Sampler sampler(7);
+    RayStats st;
+    int ballHits = 0, blocked = 0;
+    for (uint32_t i = 0; i < 4000; ++i) {
+        sampler.startStream(0, i);
+        Vec2 u = sampler.get2D();
+        // Origins around and inside the ball, directions everywhere; some rays start past the
+        // ball's near side (tMin), and shadow rays end before, inside or past it.
+        Ray ray{Vec3(-0.6f + 1.6f * u.x, 0.05f + 1.2f * u.y, -0.9f + 1.6f * sampler.get1D()),
+                sampleUniformSphere(sampler.get2D()), 0, kInf};
+        if (i % 3 == 0) ray.tMin = 0.5f * sampler.get1D();
+        Intersection a = beside->intersect(ray, st), b = inside->intersect(ray, st);
+        ASSERT_EQ(a.kind, b.kind) << i;
+        if (a.kind == Intersection::Kind::Surface) {
+            ballHits += beside->shapeName(a.si.shapeId) == "/Ball";
+            EXPECT_EQ(beside->shapeName(a.si.shapeId), inside->shapeName(b.si.shapeId)) << i;
+            EXPECT_EQ(a.t, b.t) << i;
+            EXPECT_TRUE(a.si.p.x == b.si.p.x && a.si.p.y == b.si.p.y && a.si.p.z == b.si.p.z) << i;
+            EXPECT_TRUE(a.si.ng.x == b.si.ng.x && a.si.ng.y == b.si.ng.y && a.si.ng.z == b.si.ng.z) << i;
+        }
+        float distance = 1.5f * sampler.get1D();
+        bool occludedBeside = beside->occluded(ray.o, ray.d, distance, st);
+        EXPECT_EQ(occludedBeside, inside->occluded(ray.o, ray.d, distance, st)) << i;
+        blocked += occludedBeside;
+    }
+    EXPECT_GT(ballHits, 600);  // 819 of the 4,000 rays meet the ball first, 1,149 shadow rays are blocked
+    EXPECT_GT(blocked, 800);
+}
+
 TEST(Scene, InstancesShareOnePrototype) {
     Scene s;
     int proto = s.addPrototype("/Proto");

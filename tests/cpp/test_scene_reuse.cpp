@@ -121,13 +121,15 @@ TEST(SceneReuse, SharedNamesAndMovingShapesAreAlwaysBuilt) {
 
 namespace {
 
-constexpr int kTiles = 8;
-constexpr size_t kRoomPrimitives = 2 * 5 + 2 * kTiles + 1;  // floor, four walls, the tiles, the ball
+constexpr int kTiles = 6;
+// Floor, four walls, the tiles; the ball is tested beside the BVH (Scene::kDirectSpheres), unless
+// the room has extra balls.
+constexpr size_t kRoomPrimitives = 2 * 5 + 2 * kTiles;
 
 // A room of static shapes alone (no instances): its top level is the next scene's static BVH.
 // `raised` lifts one tile by 0.3, `hidden` leaves one out (-1: none); `floorY` moves the floor.
 std::unique_ptr<Scene> tiledRoom(const Scene* previous, int raised = -1, int hidden = -1, float floorY = 0,
-                                 bool ball = true, Scene::BvhReuse reuse = Scene::BvhReuse::Edits) {
+                                 bool ball = true, Scene::BvhReuse reuse = Scene::BvhReuse::Edits, int extraBalls = 0) {
     auto s = std::make_unique<Scene>();
     if (previous) s->reuseBvhOf(*previous, reuse);
     int white = s->addMaterial(lambert(Color(0.7f)));
@@ -144,6 +146,8 @@ std::unique_ptr<Scene> tiledRoom(const Scene* previous, int raised = -1, int hid
         addQuad(*s, name.c_str(), {x, y, -0.1f}, {x, y, 0.1f}, {x + 0.15f, y, 0.1f}, {x + 0.15f, y, -0.1f}, red);
     }
     if (ball) s->addSphere("/Ball", Vec3(0.3f, 0.4f, 0.4f), 0.25f, white, nullptr, -1);
+    for (int b = 0; b < extraBalls; ++b)  // small, in a corner by the back wall
+        s->addSphere("/Extra" + std::to_string(b), Vec3(-0.9f + 0.1f * float(b), 0.05f, -0.9f), 0.04f, red, nullptr, -1);
     s->addLight(sphereLight("/Light", {0, 1.7f, 0}, 0.2f, 30));
     s->setCamera(lookingDown({0, 1.9f, 0}, false, 70));
     return s;
@@ -208,13 +212,13 @@ TEST(SceneReuse, AnEditBuildsOnlyWhatChangedAndMasksItsOldSelf) {
 TEST(SceneReuse, AStaticBvhMaskingMoreThanItsShareIsRebuilt) {
     auto first = tiledRoom(nullptr);
     first->commit();
-    // The floor moved, a tile raised, another and the ball gone: 2 + 2 + 2 + 1 = 7 of the 27
-    // primitives would be masked, over a quarter.
+    // The floor moved, a tile raised, another gone: 2 + 2 + 2 = 6 of the 22 primitives would be
+    // masked, over a quarter (the ball, gone too, is in no BVH).
     auto second = tiledRoom(first.get(), 1, 2, -0.01f, false);
     second->commit();
     EXPECT_EQ(second->stats().primitivesMasked, 0u);
     EXPECT_EQ(second->stats().primitivesReused, 0u);
-    EXPECT_EQ(second->stats().primitivesBuilt, kRoomPrimitives - 3);  // all it has: a new static BVH and the rest
+    EXPECT_EQ(second->stats().primitivesBuilt, kRoomPrimitives - 2);  // all it has: a new static BVH and the rest
     auto alone = tiledRoom(nullptr, 1, 2, -0.01f, false);
     alone->commit();
     expectAsBuiltAlone(*second, *alone);
@@ -238,11 +242,11 @@ TEST(SceneReuse, FramesRebuildAStaticBvhRatherThanMaskIt) {
     expectAsBuiltAlone(*third, *alone);
 }
 
-// The ball (a sphere: user geometry, sphere_geometry.h) hidden by an edit stays in the kept static
-// BVH, masked: rays where it was reach the floor, shadow rays pass, and its data outlives the scene
-// that built it.
+// The ball (a sphere: user geometry, sphere_geometry.h, with five spheres in the room) hidden by an
+// edit stays in the kept static BVH, masked: rays where it was reach the floor, shadow rays pass,
+// and its data outlives the scene that built it.
 TEST(SceneReuse, AHiddenSphereIsMaskedInTheKeptBvh) {
-    auto first = tiledRoom(nullptr);
+    auto first = tiledRoom(nullptr, -1, -1, 0, true, Scene::BvhReuse::Edits, 4);
     first->commit();
     const Vec3 ballTop(0.3f, 1, 0.4f);
     RayStats st;
@@ -250,7 +254,7 @@ TEST(SceneReuse, AHiddenSphereIsMaskedInTheKeptBvh) {
     ASSERT_EQ(before.kind, Intersection::Kind::Surface);
     EXPECT_EQ(first->shapeName(before.si.shapeId), "/Ball");
     EXPECT_NEAR(before.si.p.y, 0.65f, 1e-5f);
-    auto second = tiledRoom(first.get(), -1, -1, 0, false);
+    auto second = tiledRoom(first.get(), -1, -1, 0, false, Scene::BvhReuse::Edits, 4);
     second->commit();
     EXPECT_EQ(second->stats().primitivesMasked, 1u);
     EXPECT_EQ(second->stats().primitivesBuilt, 0u);
@@ -259,7 +263,7 @@ TEST(SceneReuse, AHiddenSphereIsMaskedInTheKeptBvh) {
     ASSERT_EQ(after.kind, Intersection::Kind::Surface);
     EXPECT_EQ(second->shapeName(after.si.shapeId), "/Floor");
     EXPECT_FALSE(second->occluded(ballTop, Vec3(0, -1, 0), 0.98f, st));
-    auto alone = tiledRoom(nullptr, -1, -1, 0, false);
+    auto alone = tiledRoom(nullptr, -1, -1, 0, false, Scene::BvhReuse::Edits, 4);  // its four spheres beside the BVH
     alone->commit();
     expectAsBuiltAlone(*second, *alone);
 }

@@ -90,7 +90,8 @@ def test_moving_a_mesh_rebuilds_only_its_bvh(tmp_path):
     total = initial["primitivesBuilt"]
     assert initial["primitivesReused"] == 0 and total > 0, initial
     for move in moves:
-        assert 0 < move["primitivesBuilt"] < 0.2 * total, (report["moved"], move)
+        # The Cornell box's floor: 2 of its 10 BVH primitives (its sphere is tested beside the BVH).
+        assert 0 < move["primitivesBuilt"] <= 0.2 * total, (report["moved"], move)
         assert move["primitivesBuilt"] + move["primitivesReused"] == total, move
         assert move["primitivesMasked"] == move["primitivesBuilt"], move
         assert move["nonFiniteSamples"] == 0, move
