@@ -3,7 +3,8 @@
 # (build/asan: -DGI_SANITIZE=ON, no Python module, no Hydra plugin), compiled through ccache like
 # the main build. Bounded for CI: the statistical convergence tests, which only repeat the code the
 # other tests already run with more samples, are left out (GI_SANITIZE_ALL=1 runs them too), and
-# every test has a time limit.
+# every test has a time limit. (Glossy reflection through glass, 2,048 path-traced spp against four
+# techniques, four seeds, took 400-450 s of the run's 560 here.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${GI_SANITIZE_BUILD_DIR:-build/asan}
@@ -25,6 +26,6 @@ cmake --build "$build" --target gi_tests -j "$jobs"
 # halt_on_error: the first report fails the test. Leak checking stays on (the default).
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:halt_on_error=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-exclude='Converges|ErrorFallsAsAccuracyTightens|AdaptiveHasNoMoreDiscontinuities|albedo9|ColouredCausticMatchesThePathTracer|UnbiasedAtDefaults'
+exclude='Converges|ErrorFallsAsAccuracyTightens|AdaptiveHasNoMoreDiscontinuities|albedo9|ColouredCausticMatchesThePathTracer|UnbiasedAtDefaults|GlossyReflectionThroughGlassCountedOnce'
 [ "${GI_SANITIZE_ALL:-0}" = 1 ] && exclude='^$'
 ctest --test-dir "$build" --output-on-failure -j "$(nproc)" --timeout 600 -E "$exclude"
