@@ -132,7 +132,7 @@ uint64_t castPackets8(const Scene& scene, RTCScene rtc, RTCIntersectContext& con
             sphere[lanes] = occlusion ? scene.directSphereBlocks(r.o, r.d, single.ray.tfar)
                                       : scene.nearestDirectSphere(r.o, r.d, r.tMin, &single.ray.tfar) >= 0;
             setPacketLane(rh, lanes, single);
-            valid[lanes] = -1;
+            valid[lanes] = occlusion && sphere[lanes] ? 0 : -1;  // blocked: not cast, as in Scene::occluded
         }
         for (int k = lanes; k < 8; ++k) valid[k] = 0;
         if (occlusion) {
@@ -153,9 +153,12 @@ uint64_t castOneByOne(const Scene& scene, RTCScene rtc, RTCIntersectContext& con
         const RecordedRay& r = rays[i];
         if (r.occlusion) {
             RTCRay ray = toEmbreeRay(r.o, r.d, r.tMin, r.tMax, r.time);
-            const bool sphere = scene.directSphereBlocks(r.o, r.d, ray.tfar);  // as Scene::occluded
+            if (scene.directSphereBlocks(r.o, r.d, ray.tfar)) {  // blocked: not cast, as in Scene::occluded
+                ++hits;
+                continue;
+            }
             rtcOccluded1(rtc, &context, &ray);
-            hits += sphere || ray.tfar < 0;
+            hits += ray.tfar < 0;
         } else {
             RTCRayHit rh = toEmbreeRayHit(r.o, r.d, r.tMin, r.tMax, r.time);
             const bool sphere = scene.nearestDirectSphere(r.o, r.d, r.tMin, &rh.ray.tfar) >= 0;  // as Scene::trace

@@ -375,13 +375,20 @@ void Scene::buildShapeGeometry(RTCScene target, std::vector<int>& geomToShape, i
     geomToShape[geomId] = shapeId;
 }
 
+bool Scene::isStaticSphere(int shape) const {
+    return shapes_[size_t(shape)].isSphere && shapes_[size_t(shape)].stepCenters.empty();
+}
+
+bool Scene::spheresBesideBvh(const std::vector<int>& shapes) const {
+    return size_t(std::count_if(shapes.begin(), shapes.end(), [&](int i) { return isStaticSphere(i); })) <=
+           kDirectSpheres;
+}
+
 void Scene::chooseDirectSpheres(std::vector<int>& top) {
-    auto isDirect = [&](int i) { return shapes_[size_t(i)].isSphere && shapes_[size_t(i)].stepCenters.empty(); };
-    const size_t spheres = size_t(std::count_if(top.begin(), top.end(), isDirect));
-    if (spheres == 0 || spheres > kDirectSpheres) return;
+    if (!spheresBesideBvh(top)) return;
     for (int i : top)
-        if (isDirect(i)) directSpheres_.push_back({SphereData{shapes_[size_t(i)].center, shapes_[size_t(i)].radius}, i});
-    top.erase(std::remove_if(top.begin(), top.end(), isDirect), top.end());
+        if (isStaticSphere(i)) directSpheres_.push_back({SphereData{shapes_[size_t(i)].center, shapes_[size_t(i)].radius}, i});
+    top.erase(std::remove_if(top.begin(), top.end(), [&](int i) { return isStaticSphere(i); }), top.end());
 }
 
 void Scene::commit() {

@@ -228,8 +228,10 @@ private:
     // commit()'s top level: the static BVH (reused or built) and the shapes left out of it.
     std::vector<int> buildStaticBvh(const std::vector<uint64_t>& fingerprints);
     std::vector<int> shapesOutside(const std::vector<int>& top, const std::vector<int>& inStatic) const;
-    // Moves the static spheres of `top` (the shapes the top level builds) to directSpheres_ when
-    // they are at most kDirectSpheres.
+    // Whether the static spheres among `shapes` are few enough to be tested beside the BVH (at
+    // most kDirectSpheres), and moving those of `top` (the shapes the top level builds) there.
+    bool isStaticSphere(int shape) const;
+    bool spheresBesideBvh(const std::vector<int>& shapes) const;
     void chooseDirectSpheres(std::vector<int>& top);
     // A reused static BVH is rebuilt once the shapes it masks hold more than this share of its
     // primitives (their traversal is wasted work for every ray).

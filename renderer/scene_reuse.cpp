@@ -184,12 +184,11 @@ std::vector<int> Scene::buildStaticBvh(const std::vector<uint64_t>& fingerprints
     // Else a new static BVH of the shapes unchanged since the previous scene (built once, then
     // kept while they stay so). Spheres the top level tests beside its BVH (chooseDirectSpheres)
     // stay out of it.
-    const auto staticSphere = [&](int i) { return shapes_[size_t(i)].isSphere && shapes_[size_t(i)].stepCenters.empty(); };
-    const bool spheresDirect = size_t(std::count_if(top.begin(), top.end(), staticSphere)) <= kDirectSpheres;
+    const bool spheresBeside = spheresBesideBvh(top);
     std::vector<int> members;
     for (int i : top) {
         auto it = previous_->topFingerprints.find(shapes_[i].name);
-        if (isStatic(i) && !(spheresDirect && staticSphere(i)) && it != previous_->topFingerprints.end() &&
+        if (isStatic(i) && !(spheresBeside && isStaticSphere(i)) && it != previous_->topFingerprints.end() &&
             it->second == fingerprints[i])
             members.push_back(i);
     }
