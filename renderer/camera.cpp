@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "motion.h"
+#include "ray_cone.h"
 #include "sampling.h"
 
 namespace gi {
@@ -27,6 +28,10 @@ Camera::Camera(const CameraDesc& desc, int width, int height, const ImageFraming
     for (const Mat4& m : desc.motionTransforms)
         if (!m.isFinite() || !m.inverse(inverse)) desc_.motionTransforms.clear();  // the renderer warns
     if (desc_.motionTransforms.size() < 2) desc_.motionTransforms.clear();
+    // A pixel's cone (ray_cone.h), as one spread for every ray (the ray cones' own
+    // simplification) or, orthographic, its width in the world.
+    const float pixel = kConeSpreadScale * 2 * halfHeight_ / float(height_);
+    pixelCone_ = orthographic_ ? pixel * length(desc_.transform.vector(Vec3(1, 0, 0))) : pixel;
     auto positive = [](float v) { return v > 0 && std::isfinite(v); };
     if (positive(desc.fStop) && positive(desc.focusDistance) && !orthographic_) {
         lensRadius_ = lens.focalLength / (2 * desc.fStop);
@@ -69,6 +74,7 @@ Ray Camera::generateImageRay(float filmX, float filmY, Vec2 lens, float time) co
     r.time = time;
     float len = length(wd);
     r.d = wd / len;
+    (orthographic_ ? r.coneWidth : r.coneSpread) = pixelCone_;
     // Clipping planes are distances along the view axis; convert to distances along the ray.
     float axial = std::fabs(d.z) / length(d);
     r.tMin = std::max(0.0f, desc_.clipNear) / std::max(axial, 1e-6f);

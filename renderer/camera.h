@@ -45,6 +45,7 @@ private:
     PixelMosaic mosaic_;
     int width_ = 1, height_ = 1;
     float halfWidth_ = 1, halfHeight_ = 1;  // of the film window, at unit distance (perspective) or in scene units
+    float pixelCone_ = 0;  // a camera ray's cone: its spread, or its width when orthographic
     float offsetX_ = 0, offsetY_ = 0;
     float lensRadius_ = 0, focusDistance_ = 1;
     bool orthographic_ = false;

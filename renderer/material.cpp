@@ -83,16 +83,17 @@ float Material::presence(Vec2 uv) const {
     return a;
 }
 
-Bsdf Material::bsdf(Vec2 uv) const { return constantBsdf_ ? bsdf_ : evalBsdf(uv); }
+Bsdf Material::bsdf(Vec2 uv, float footprint) const { return constantBsdf_ ? bsdf_ : evalBsdf(uv, footprint); }
 
-Bsdf Material::evalBsdf(Vec2 uv) const {
+Bsdf Material::evalBsdf(Vec2 uv, float footprint) const {
     BsdfParams p;
-    Color base = diffuseTex_.valid() ? sanitize(diffuseTex_.evalColor(uv)) : desc_.diffuseColor;
+    Color base = diffuseTex_.valid() ? sanitize(diffuseTex_.evalColor(uv, footprint)) : desc_.diffuseColor;
     base = vmin(base, Color(1.0f));
-    float roughness = roughnessTex_.valid() ? sanitize01(roughnessTex_.evalFloat(uv), 0.5f) : desc_.roughness;
+    float roughness =
+        roughnessTex_.valid() ? sanitize01(roughnessTex_.evalFloat(uv, footprint), 0.5f) : desc_.roughness;
     float opacity = 1;
     if (transparentMode_)
-        opacity = opacity_.valid() ? sanitize01(opacity_.evalFloat(uv), 1) : desc_.opacity;
+        opacity = opacity_.valid() ? sanitize01(opacity_.evalFloat(uv, footprint), 1) : desc_.opacity;
     p.roughness = roughness;
     p.clearcoat = desc_.clearcoat;
     p.clearcoatRoughness = desc_.clearcoatRoughness;
@@ -100,13 +101,14 @@ Bsdf Material::evalBsdf(Vec2 uv) const {
     p.transmission = 1 - opacity;
     p.transmissionTint = base;
     if (desc_.useSpecularWorkflow) {
-        Color spec = specularTex_.valid() ? sanitize(specularTex_.evalColor(uv)) : desc_.specularColor;
+        Color spec = specularTex_.valid() ? sanitize(specularTex_.evalColor(uv, footprint)) : desc_.specularColor;
         p.specularF0 = vmin(spec, Color(1.0f));
         // Filament's trick: a black specular colour means no specular at grazing angles either.
         p.specularF90 = clamp01(50.0f * maxComponent(p.specularF0));
         p.diffuse = base;
     } else {
-        float metallic = metallicTex_.valid() ? sanitize01(metallicTex_.evalFloat(uv), 0) : desc_.metallic;
+        float metallic =
+            metallicTex_.valid() ? sanitize01(metallicTex_.evalFloat(uv, footprint), 0) : desc_.metallic;
         float r = (1 - p.ior) / (1 + p.ior);
         p.specularF0 = lerp(Color(r * r), base, metallic);
         p.specularF90 = 1;

@@ -168,6 +168,10 @@ struct Ray {
     Vec3 o, d;
     float tMin = 0, tMax = kInf;
     float time = 0;  // within the camera's shutter: 0 = open, 1 = close (motion.h)
+    // A ray cone: its width at `o` and its growth per unit of distance (radians), which size
+    // the footprint a hit's textures are read over (SurfaceInteraction::uvFootprint). 0: the
+    // textures' finest level, as for camera rays.
+    float coneWidth = 0, coneSpread = 0;
 };
 
 // Offsets a ray origin off a surface along the geometric normal, scaled with the magnitude

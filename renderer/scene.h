@@ -45,6 +45,9 @@ struct SurfaceInteraction {
     Vec2 uv;
     float t = 0;
     float time = 0;   // the ray's time within the shutter (motion.h): rays leaving here keep it
+    // The arriving ray's cone (ray_cone.h): its width here (world units) and its spread, and the
+    // width in uv units that the textures here are read over (Image::lookup); 0 without a cone.
+    float coneWidth = 0, coneSpread = 0, uvFootprint = 0;
     const Material* material = nullptr;
     int emissiveLight = -1;  // index into lights() when the surface is an emissive triangle
     uint32_t primId = 0, shapeId = 0, instanceId = 0xffffffffu;

@@ -47,10 +47,16 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const PendingHit& pend
     si.time = ray.time;
     si.t = rh.ray.tfar;
     si.p = ray.o + ray.d * si.t;
+    si.coneWidth = ray.coneWidth + ray.coneSpread * si.t;
+    si.coneSpread = ray.coneSpread;
     si.primId = h.primID;
     si.shapeId = uint32_t(shapeId);
     si.material = materials_[s.material].get();
     si.doubleSided = s.doubleSided;
+    // A cone's width in uv units (only where textures read it): world units times the uv
+    // parameterisation's density, which an instance's transform divides by its scale.
+    const bool footprint = si.coneWidth > 0 && si.material->texturedBsdf();
+    const float worldPerObject = footprint && inst ? float(std::cbrt(std::fabs(toWorld.det3()))) : 1.0f;
     Vec3 ng, ns;
     if (s.isSphere) {
         Vec3 center = s.stepCenters.empty() ? s.center : atTime(s.stepCenters, ray.time);
@@ -64,6 +70,8 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const PendingHit& pend
         Vec3 n = normalize(local);
         ng = ns = n;
         si.uv = Vec2(0.5f + std::atan2(n.z, n.x) / (2 * kPi), std::acos(std::clamp(n.y, -1.0f, 1.0f)) / kPi);
+        // u spans the equator's 2 pi r, v a meridian's pi r: their geometric mean.
+        if (footprint) si.uvFootprint = si.coneWidth / (worldPerObject * kPi * std::sqrt(2.0f) * radius);
         // Re-project onto the sphere: removes the intersection's float error along the ray.
         Vec3 surface = center + n * radius;
         si.p = inst ? toWorld.point(surface) : surface;
@@ -74,7 +82,8 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const PendingHit& pend
         const Vec3 p0 = moving ? atTime(s.stepPositions, ray.time, i0) : s.positions[i0];
         const Vec3 p1 = moving ? atTime(s.stepPositions, ray.time, i1) : s.positions[i1];
         const Vec3 p2 = moving ? atTime(s.stepPositions, ray.time, i2) : s.positions[i2];
-        ng = normalize(cross(p1 - p0, p2 - p0));
+        const Vec3 areaNormal = cross(p1 - p0, p2 - p0);
+        ng = normalize(areaNormal);
         Vec3 objectP = p0 * b0 + p1 * b1 + p2 * b2;
         si.p = inst ? toWorld.point(objectP) : objectP;
         ns = ng;
@@ -85,9 +94,14 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const PendingHit& pend
         }
         if (!s.uvs.empty()) {
             si.uv = s.uvs[i0] * b0 + s.uvs[i1] * b1 + s.uvs[i2] * b2;
+            const Vec2 duv1 = s.uvs[i1] - s.uvs[i0], duv2 = s.uvs[i2] - s.uvs[i0];
+            if (footprint) {
+                // The triangle's uv area over its area: squared uv units per world unit.
+                const float density = std::fabs(duv1.x * duv2.y - duv1.y * duv2.x) / length(areaNormal);
+                si.uvFootprint = std::isfinite(density) ? si.coneWidth * std::sqrt(density) / worldPerObject : 0.0f;
+            }
             if (si.material->hasNormalMap())
-                ns = applyNormalMap(*si.material, si.uv, ns, p1 - p0, p2 - p0, s.uvs[i1] - s.uvs[i0],
-                                    s.uvs[i2] - s.uvs[i0]);
+                ns = applyNormalMap(*si.material, si.uv, ns, p1 - p0, p2 - p0, duv1, duv2);
         }
         if (si.material->isEmissive()) {
             if (!inst && s.lightOffset >= 0) si.emissiveLight = s.lightOffset + int(h.primID);

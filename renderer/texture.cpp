@@ -91,24 +91,27 @@ std::shared_ptr<Image> Image::load(const std::string& path, const std::string& c
 
 std::shared_ptr<Image> Image::fromBytes(int width, int height, std::vector<uint8_t> rgba, bool srgb) {
     auto image = std::make_shared<Image>();
-    image->width_ = width;
-    image->height_ = height;
     image->bytes_ = std::move(rgba);
     for (int v = 0; v < 256; ++v) image->decode_[v] = srgb ? srgbToLinear(v / 255.0f) : v / 255.0f;
+    image->buildLevels(width, height);
     return image;
 }
 
 std::shared_ptr<Image> Image::fromPixels(int width, int height, std::vector<float> rgba) {
     auto image = std::make_shared<Image>();
-    image->width_ = width;
-    image->height_ = height;
     image->pixels_ = std::move(rgba);
+    image->buildLevels(width, height);
     return image;
 }
 
-void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4]) const {
+void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4], float footprint) const {
+    // The level where the footprint spans one to two texels along the image's longer side.
+    int level = 0;
+    const float texels = footprint * float(std::max(levels_[0].width, levels_[0].height));
+    if (texels >= 2 && std::isfinite(texels)) level = std::min(int(levels_.size()) - 1, std::ilogb(texels));
+    const int width = levels_[size_t(level)].width, height = levels_[size_t(level)].height;
     // Texel centres at half-integers; v flipped because row 0 is the top of the file.
-    float x = u * width_ - 0.5f, y = (1 - v) * height_ - 0.5f;
+    float x = u * width - 0.5f, y = (1 - v) * height - 0.5f;
     if (!std::isfinite(x) || !std::isfinite(y)) x = y = 0;
     x = std::clamp(x, -1e7f, 1e7f);
     y = std::clamp(y, -1e7f, 1e7f);
@@ -118,8 +121,8 @@ void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4]) const {
     // Rows and columns wrapped once, not per texel: the four texels' coordinates, or -1 for black.
     int xs[2] = {x0, x0 + 1}, ys[2] = {y0, y0 + 1};
     for (int i = 0; i < 2; ++i) {
-        if (!wrapCoordinate(xs[i], width_, wrapS)) xs[i] = -1;
-        if (!wrapCoordinate(ys[i], height_, wrapT)) ys[i] = -1;
+        if (!wrapCoordinate(xs[i], width, wrapS)) xs[i] = -1;
+        if (!wrapCoordinate(ys[i], height, wrapT)) ys[i] = -1;
     }
     for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
@@ -127,7 +130,7 @@ void Image::lookup(float u, float v, int wrapS, int wrapT, float out[4]) const {
             float w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
             if (xi < 0 || yi < 0) continue;
             float t[4];
-            texel(xi, yi, t);
+            texel(level, xi, yi, t);
             for (int c = 0; c < 4; ++c) out[c] += w * t[c];
         }
 }
@@ -146,25 +149,26 @@ void Texture::prepare() {
     st[1][0] = sn * desc.stScale.x;
     st[1][1] = cs * desc.stScale.y;
     st[1][2] = desc.stTranslation.y;
+    stScale = std::sqrt(std::fabs(st[0][0] * st[1][1] - st[0][1] * st[1][0]));
 }
 
-void Texture::evalRaw(Vec2 uv, float out[4]) const {
+void Texture::evalRaw(Vec2 uv, float out[4], float footprint) const {
     float u = st[0][0] * uv.x + st[0][1] * uv.y + st[0][2];
     float v = st[1][0] * uv.x + st[1][1] * uv.y + st[1][2];
-    image->lookup(u, v, wrapS, wrapT, out);
+    image->lookup(u, v, wrapS, wrapT, out, footprint * stScale);
     for (int c = 0; c < 4; ++c) out[c] = out[c] * desc.scale[c] + desc.bias[c];
 }
 
-Color Texture::evalColor(Vec2 uv) const {
+Color Texture::evalColor(Vec2 uv, float footprint) const {
     float t[4];
-    evalRaw(uv, t);
+    evalRaw(uv, t, footprint);
     if (channelIndex >= 0) return Color(t[channelIndex]);
     return {t[0], t[1], t[2]};
 }
 
-float Texture::evalFloat(Vec2 uv) const {
+float Texture::evalFloat(Vec2 uv, float footprint) const {
     float t[4];
-    evalRaw(uv, t);
+    evalRaw(uv, t, footprint);
     return t[channelIndex >= 0 ? channelIndex : 0];
 }
 

@@ -1,6 +1,7 @@
 // Image textures read through OpenImageIO, with UsdUVTexture's wrap, scale/bias and
 // UsdTransform2d semantics. Pixels are converted to linear float once, at load.
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,26 +31,46 @@ public:
     // 8-bit RGBA kept as bytes (a quarter of the memory, and of the cache misses); colour
     // channels decode through a table (sRGB or linear), alpha is linear.
     static std::shared_ptr<Image> fromBytes(int width, int height, std::vector<uint8_t> rgba, bool srgb);
-    // Bilinear lookup; (u, v) with v = 0 at the bottom row, as USD's st.
-    void lookup(float u, float v, int wrapS, int wrapT, float out[4]) const;
-    int width() const { return width_; }
-    int height() const { return height_; }
-    // Linear RGBA of one texel.
-    void texel(int x, int y, float out[4]) const {
-        size_t i = (size_t(y) * width_ + x) * 4;
-        if (bytes_.empty()) {
+    // Bilinear lookup; (u, v) with v = 0 at the bottom row, as USD's st. `footprint` is the
+    // lookup's width in (u, v) units: the level of the image's MIP chain whose texels it spans
+    // one to two of is read (0: the image itself).
+    void lookup(float u, float v, int wrapS, int wrapT, float out[4], float footprint = 0) const;
+    int width() const { return levels_.empty() ? 0 : levels_[0].width; }
+    int height() const { return levels_.empty() ? 0 : levels_[0].height; }
+    int levels() const { return int(levels_.size()); }
+    // Linear RGBA of one texel of a level.
+    void texel(int level, int x, int y, float out[4]) const {
+        const Level& l = levels_[size_t(level)];
+        size_t i = (l.offset + size_t(y) * l.width + x) * 4;
+        if (!pixels_.empty()) {
             for (int c = 0; c < 4; ++c) out[c] = pixels_[i + c];
-            return;
+        } else if (level == 0) {
+            for (int c = 0; c < 3; ++c) out[c] = decode_[bytes_[i + c]];
+            out[3] = bytes_[i + 3] * (1.0f / 255);
+        } else {
+            i -= size_t(levels_[0].width) * levels_[0].height * 4;
+            for (int c = 0; c < 4; ++c) out[c] = coarse_[i + c] * (1.0f / 65535);
         }
-        for (int c = 0; c < 3; ++c) out[c] = decode_[bytes_[i + c]];
-        out[3] = bytes_[i + 3] * (1.0f / 255);
     }
-    size_t memoryBytes() const { return pixels_.size() * sizeof(float) + bytes_.size(); }
+    void texel(int x, int y, float out[4]) const { texel(0, x, y, out); }
+    size_t memoryBytes() const {
+        return pixels_.size() * sizeof(float) + bytes_.size() + coarse_.size() * sizeof(uint16_t);
+    }
 
 private:
-    int width_ = 0, height_ = 0;
+    // The MIP chain, made at load (texture_mips.cpp): level 0 is the image, each next one half
+    // its size (at least 1), every level's texels after the previous one's: in pixels_ for a
+    // float image; for an 8-bit one the coarser levels in coarse_, linear in 16 bits (8-bit
+    // codes rounded again at every level brightened Sibenik's stone by 0.6% at its last).
+    struct Level {
+        int width = 0, height = 0;
+        size_t offset = 0;  // in texels
+    };
+    void buildLevels(int width, int height);
+    std::vector<Level> levels_;
     std::vector<float> pixels_;   // RGBA, top row first (float and 16-bit images)
     std::vector<uint8_t> bytes_;  // RGBA, top row first (8-bit images)
+    std::vector<uint16_t> coarse_;  // RGBA of an 8-bit image's levels past the first
     float decode_[256] = {};
 };
 
@@ -65,12 +86,14 @@ struct Texture {
     int wrapS = kWrapRepeat, wrapT = kWrapRepeat;
     int channelIndex = -1;  // -1 = rgb
     float st[2][3] = {{1, 0, 0}, {0, 1, 0}};  // UsdTransform2d as a 2x3 matrix
+    float stScale = 1;                        // how much the matrix scales a footprint
 
     void prepare();  // computes wrap modes, channel and the st matrix from `desc`
     bool valid() const { return image != nullptr; }
-    Color evalColor(Vec2 uv) const;
-    float evalFloat(Vec2 uv) const;
-    void evalRaw(Vec2 uv, float out[4]) const;
+    // `footprint`: the lookup's width in the primvar's (u, v) units (Image::lookup).
+    Color evalColor(Vec2 uv, float footprint = 0) const;
+    float evalFloat(Vec2 uv, float footprint = 0) const;
+    void evalRaw(Vec2 uv, float out[4], float footprint = 0) const;
 };
 
 }  // namespace gi

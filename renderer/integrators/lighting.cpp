@@ -6,7 +6,7 @@ ShadingPoint makeShadingPoint(const SurfaceInteraction& si, const Vec3& wo) {
     ShadingPoint sp;
     sp.si = si;
     sp.wo = wo;
-    sp.bsdf = si.material->bsdf(si.uv);
+    sp.bsdf = si.material->bsdf(si.uv, si.uvFootprint);
     if (!sp.bsdf.transmits() && dot(wo, si.ng) < 0) {
         // Opaque surfaces reflect on the side the ray arrived from.
         sp.si.ng = -si.ng;

@@ -6,6 +6,7 @@
 
 #include "lighting.h"
 #include "photon_map.h"
+#include "../ray_cone.h"
 
 namespace gi {
 
@@ -83,6 +84,7 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
         const bool lightsAreCaustics = caustics && bs.delta;
         Vec3 wi = sp.frame.toWorld(bs.wi);
         Ray next = spawnRay(sp.si, wi);
+        continueCone(next, sp.si, bs);
         Scene::PendingHit pending = scene.trace(next, stats, false);
         DirectLightSample direct = prepareDirectLight(scene, sp, uLight, uChoice.x, true);
         scene.prefetchSurface(pending);  // the indices have had the light sample's time to arrive

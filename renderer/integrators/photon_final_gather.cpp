@@ -3,6 +3,7 @@
 #include "disc_area.h"
 #include "path.h"
 #include "specular_chain.h"
+#include "../ray_cone.h"
 
 namespace gi {
 
@@ -44,6 +45,7 @@ Color PhotonMapFinalGatherIntegrator::indirect(const Scene& scene, const Shading
         // unbiased because bs.pdf counts the probability of having picked a non-delta lobe.
         if (!bs.valid || bs.delta) continue;
         Ray ray = spawnRay(sp.si, sp.frame.toWorld(bs.wi));
+        continueCone(ray, sp.si, bs);
         gathered += bs.weight * gatherRay(scene, ray, sampler, stats, 1);
     }
     gatherRays_.fetch_add(uint64_t(samples), std::memory_order_relaxed);
@@ -103,6 +105,7 @@ Color PhotonMapFinalGatherIntegrator::gatherRay(const Scene& scene, Ray ray, Sam
             afterSpecular = bs.delta;
             prevPdf = bs.pdf, prevPoint = sp.si.p;
             ray = spawnRay(sp.si, sp.frame.toWorld(bs.wi));
+            continueCone(ray, sp.si, bs);
             continue;
         }
         if (settings_.gatherDirectLight && sp.bsdf.hasNonDelta())
