@@ -96,7 +96,7 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const PendingHit& pend
             si.uv = s.uvs[i0] * b0 + s.uvs[i1] * b1 + s.uvs[i2] * b2;
             const Vec2 duv1 = s.uvs[i1] - s.uvs[i0], duv2 = s.uvs[i2] - s.uvs[i0];
             if (footprint) {
-                // The triangle's uv area over its area: squared uv units per world unit.
+                // The triangle's uv area over its area: squared uv units per square world unit.
                 const float density = std::fabs(duv1.x * duv2.y - duv1.y * duv2.x) / length(areaNormal);
                 si.uvFootprint = std::isfinite(density) ? si.coneWidth * std::sqrt(density) / worldPerObject : 0.0f;
             }

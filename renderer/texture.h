@@ -48,7 +48,6 @@ public:
             for (int c = 0; c < 3; ++c) out[c] = decode_[bytes_[i + c]];
             out[3] = bytes_[i + 3] * (1.0f / 255);
         } else {
-            i -= size_t(levels_[0].width) * levels_[0].height * 4;
             for (int c = 0; c < 4; ++c) out[c] = coarse_[i + c] * (1.0f / 65535);
         }
     }
@@ -64,7 +63,7 @@ private:
     // codes rounded again at every level brightened Sibenik's stone by 0.6% at its last).
     struct Level {
         int width = 0, height = 0;
-        size_t offset = 0;  // in texels
+        size_t offset = 0;  // in texels, into the array that holds the level
     };
     void buildLevels(int width, int height);
     std::vector<Level> levels_;

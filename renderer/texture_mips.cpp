@@ -13,18 +13,19 @@ namespace gi {
 
 void Image::buildLevels(int width, int height) {
     levels_.assign(1, Level{width, height, 0});
-    size_t texels = size_t(width) * height;
+    // A float image's levels follow its texels in pixels_; an 8-bit one's start coarse_.
+    const bool floats = !pixels_.empty();
+    size_t texels = floats ? size_t(width) * height : 0;
     for (int w = width, h = height; w > 1 || h > 1;) {
         w = std::max(1, w / 2);
         h = std::max(1, h / 2);
         levels_.push_back(Level{w, h, texels});
         texels += size_t(w) * h;
     }
-    const size_t firstLevel = size_t(width) * height;
-    if (pixels_.empty())
-        coarse_.resize((texels - firstLevel) * 4);
-    else
+    if (floats)
         pixels_.resize(texels * 4);
+    else
+        coarse_.resize(texels * 4);
     std::vector<float> previous, next;  // linear RGBA of the level before and of this one
     for (size_t l = 1; l < levels_.size(); ++l) {
         const Level& from = levels_[l - 1];
@@ -59,10 +60,10 @@ void Image::buildLevels(int width, int height) {
         });
         const size_t begin = to.offset * 4;
         for (size_t i = 0; i < next.size(); ++i) {
-            if (!pixels_.empty())
+            if (floats)
                 pixels_[begin + i] = next[i];
             else  // 8-bit texels decode to [0, 1]
-                coarse_[begin - firstLevel * 4 + i] = uint16_t(std::lround(std::clamp(next[i], 0.0f, 1.0f) * 65535));
+                coarse_[begin + i] = uint16_t(std::lround(std::clamp(next[i], 0.0f, 1.0f) * 65535));
         }
         std::swap(previous, next);
     }
