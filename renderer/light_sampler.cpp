@@ -47,21 +47,24 @@ void unionCone(Vec3 wa, float cosA, Vec3 wb, float cosB, Vec3* w, float* cosThet
 
 }  // namespace
 
-float LightBounds::importance(const Vec3& p) const {
+LightImportance::LightImportance(const LightBounds& b)
+    : center((b.lo + b.hi) * 0.5f), w(b.w), radius(length(b.hi - b.lo) / 2), phi(b.phi), cosThetaO(b.cosThetaO),
+      sinThetaO(safeSqrt(1 - b.cosThetaO * b.cosThetaO)), cosThetaE(b.cosThetaE), twoSided(b.twoSided) {
+    radiusSquared = radius * radius;
+}
+
+float LightImportance::operator()(const Vec3& p) const {
     if (!(phi > 0)) return 0;
-    Vec3 center = (lo + hi) * 0.5f;
     Vec3 toPoint = p - center;
     float d2 = lengthSquared(toPoint);
-    float radius = length(hi - lo) / 2;
     // Not below the box's half diagonal: a point inside or next to the lights gets no infinity.
     float clamped = std::max(d2, radius);
     float cosThetaW = d2 > 0 ? dot(w, toPoint) / std::sqrt(d2) : 1.0f;
     if (twoSided) cosThetaW = std::fabs(cosThetaW);
     float sinThetaW = safeSqrt(1 - cosThetaW * cosThetaW);
     // The directions from the box's bounding sphere towards p lie within thetaB of toPoint.
-    float cosThetaB = d2 > radius * radius ? safeSqrt(1 - radius * radius / d2) : -1.0f;
+    float cosThetaB = d2 > radiusSquared ? safeSqrt(1 - radiusSquared / d2) : -1.0f;
     float sinThetaB = safeSqrt(1 - cosThetaB * cosThetaB);
-    float sinThetaO = safeSqrt(1 - cosThetaO * cosThetaO);
     // The smallest angle between a normal of the lights and a direction from them to p.
     float cosThetaX = cosSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
     float sinThetaX = sinSubClamped(sinThetaW, cosThetaW, sinThetaO, cosThetaO);
@@ -100,7 +103,8 @@ LightSampler::LightSampler(const std::vector<const Light*>& lights, const std::v
         }
     }
     if (!infinitePower.empty()) infinite_ = Distribution1D(infinitePower.data(), int(infinitePower.size()));
-    if (!bounded.empty()) build(bounded, 0, bounded.size(), 0, 0);
+    LightBounds all;
+    if (!bounded.empty()) build(bounded, 0, bounded.size(), 0, 0, all);
     // pbrt-v4's split: each infinite light counts as much as all the bounded ones together (their
     // power over the whole scene's disc says nothing about what reaches a point inside).
     size_t groups = infiniteIndex_.size() + (nodes_.empty() ? 0 : 1);
@@ -108,11 +112,12 @@ LightSampler::LightSampler(const std::vector<const Light*>& lights, const std::v
 }
 
 int LightSampler::build(std::vector<std::pair<int, LightBounds>>& lights, size_t begin, size_t end, uint64_t trail,
-                        int depth) {
+                        int depth, LightBounds& bounds) {
     int index = int(nodes_.size());
     nodes_.emplace_back();
     if (end - begin == 1) {  // median splits: log2(lights) levels, far below the trail's 64 bits
-        nodes_[index].bounds = lights[begin].second;
+        bounds = lights[begin].second;
+        nodes_[index].importance = LightImportance(bounds);
         nodes_[index].light = lights[begin].first;
         trail_[size_t(lights[begin].first)] = trail;
         return index;
@@ -132,10 +137,12 @@ int LightSampler::build(std::vector<std::pair<int, LightBounds>>& lights, size_t
                          float cb = b.second.lo[axis] + b.second.hi[axis];
                          return ca < cb || (ca == cb && a.first < b.first);
                      });
-    build(lights, begin, mid, trail, depth + 1);
-    int second = build(lights, mid, end, trail | (uint64_t(1) << depth), depth + 1);
+    LightBounds firstBounds, secondBounds;
+    build(lights, begin, mid, trail, depth + 1, firstBounds);
+    int second = build(lights, mid, end, trail | (uint64_t(1) << depth), depth + 1, secondBounds);
     nodes_[index].child1 = second;
-    nodes_[index].bounds = unionOf(nodes_[size_t(index) + 1].bounds, nodes_[size_t(second)].bounds);
+    bounds = unionOf(firstBounds, secondBounds);
+    nodes_[index].importance = LightImportance(bounds);
     return index;
 }
 
@@ -153,7 +160,7 @@ int LightSampler::sample(const Vec3& p, float u, float* pmf) const {
     size_t node = 0;
     while (nodes_[node].child1 >= 0) {
         size_t first = node + 1, second = size_t(nodes_[node].child1);
-        float i0 = nodes_[first].bounds.importance(p), i1 = nodes_[second].bounds.importance(p);
+        float i0 = nodes_[first].importance(p), i1 = nodes_[second].importance(p);
         if (!(i0 + i1 > 0)) return -1;
         float p0 = i0 / (i0 + i1);
         if (u < p0) {
@@ -168,7 +175,7 @@ int LightSampler::sample(const Vec3& p, float u, float* pmf) const {
     }
     // A light that cannot reach p is not drawn; a lone light is not tested: its own sample()
     // rejects what it cannot reach as cheaply (one-sided rects and disks) as the importance would.
-    if (nodes_.size() > 1 && !(nodes_[node].bounds.importance(p) > 0)) return -1;
+    if (nodes_.size() > 1 && !(nodes_[node].importance(p) > 0)) return -1;
     *pmf = prob;
     return nodes_[node].light;
 }
@@ -182,14 +189,14 @@ float LightSampler::pmf(const Vec3& p, int light) const {
     size_t node = 0;
     while (nodes_[node].child1 >= 0) {
         size_t first = node + 1, second = size_t(nodes_[node].child1);
-        float i0 = nodes_[first].bounds.importance(p), i1 = nodes_[second].bounds.importance(p);
+        float i0 = nodes_[first].importance(p), i1 = nodes_[second].importance(p);
         if (!(i0 + i1 > 0)) return 0;
         bool takeSecond = trail & 1;
         prob *= (takeSecond ? i1 : i0) / (i0 + i1);
         node = takeSecond ? second : first;
         trail >>= 1;
     }
-    if (nodes_[node].light != light || (nodes_.size() > 1 && !(nodes_[node].bounds.importance(p) > 0))) return 0;
+    if (nodes_[node].light != light || (nodes_.size() > 1 && !(nodes_[node].importance(p) > 0))) return 0;
     return prob;
 }
 

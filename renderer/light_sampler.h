@@ -25,10 +25,23 @@ struct LightBounds {
     Vec3 w{0, 0, 1};
     float cosThetaO = -1, cosThetaE = 0;
     bool twoSided = false;
-    // An upper bound of what the bounded lights can send to `p`, up to a common factor.
-    float importance(const Vec3& p) const;
 };
 LightBounds unionOf(const LightBounds& a, const LightBounds& b);
+
+// A node's bounds as its importance at a point reads them: the box's centre and radius and the
+// cone's sine computed once, not at each of the 2 log2(lights) calls a light sample makes (on
+// Sibenik's 53 windows these calls were 6% of a path-traced render's time).
+struct LightImportance {
+    LightImportance() = default;
+    explicit LightImportance(const LightBounds& b);
+    // An upper bound of what the bounded lights can send to `p`, up to a common factor.
+    float operator()(const Vec3& p) const;
+
+    Vec3 center{0.0f}, w{0, 0, 1};
+    float radius = 0, radiusSquared = 0, phi = 0;
+    float cosThetaO = -1, sinThetaO = 0, cosThetaE = 0;
+    bool twoSided = false;
+};
 
 class LightSampler {
 public:
@@ -43,11 +56,13 @@ public:
 
 private:
     struct Node {
-        LightBounds bounds;
+        LightImportance importance;
         int child1 = -1;  // second child (the first follows the node); -1 for a leaf
         int light = -1;   // a leaf's light
     };
-    int build(std::vector<std::pair<int, LightBounds>>& lights, size_t begin, size_t end, uint64_t trail, int depth);
+    // Builds the subtree of lights [begin, end) at the next node; returns its index, its bounds in `bounds`.
+    int build(std::vector<std::pair<int, LightBounds>>& lights, size_t begin, size_t end, uint64_t trail, int depth,
+              LightBounds& bounds);
 
     std::vector<Node> nodes_;
     std::vector<uint64_t> trail_;      // per light: the child taken at each level (bit i = level i)
