@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+
 #include "specular_chain.h"
 
 namespace gi {
@@ -71,7 +73,10 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
 std::vector<Photon> PhotonTracer::tracePass(uint32_t stream, uint32_t count, const PhotonTraceSettings& settings,
                                             Counters& counters, const std::atomic<bool>* cancel,
                                             double deadline, uint32_t* traced) const {
-    constexpr uint32_t kChunk = 4096;
+    // Chunks of 4,096 photons, or smaller in small passes so that threads share them evenly: at
+    // 11,344 photons (auto's pilots, photons scaled with their pixels) three chunks of 4,096 on
+    // two threads traced a photon in 0.93 us of wall time, against 0.56 in the render's passes.
+    const uint32_t kChunk = std::clamp<uint32_t>(count / 64, 256, 4096);
     size_t chunks = (size_t(count) + kChunk - 1) / kChunk;
     std::vector<std::vector<Photon>> stored(chunks);
     std::atomic<uint32_t> tracedCount{0};
