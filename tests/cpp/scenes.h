@@ -11,6 +11,15 @@
 
 namespace gi::test {
 
+// Row-vector camera/light frame looking from `eye` along `forward` (USD: -Z is the view axis).
+inline Mat4 lookAlong(Vec3 eye, Vec3 forward, Vec3 up = Vec3(0, 1, 0)) {
+    Vec3 f = normalize(forward), r = normalize(cross(f, up)), u = cross(r, f);
+    Mat4 m;
+    Vec3 rows[4] = {r, u, -f, eye};
+    for (int i = 0; i < 4; ++i) m.m[i][0] = rows[i].x, m.m[i][1] = rows[i].y, m.m[i][2] = rows[i].z;
+    return m;
+}
+
 inline MaterialDesc lambert(Color albedo, Color emission = Color(0.0f)) {
     MaterialDesc m;
     m.name = "lambert";

@@ -22,14 +22,6 @@ namespace {
 // ---------------------------------------------------------------------------------------
 // Rendering
 
-Mat4 lookAlong(Vec3 eye, Vec3 forward, Vec3 up = Vec3(0, 1, 0)) {
-    Vec3 f = normalize(forward), r = normalize(cross(f, up)), u = cross(r, f);
-    Mat4 m;
-    Vec3 rows[4] = {r, u, -f, eye};
-    for (int i = 0; i < 4; ++i) m.m[i][0] = rows[i].x, m.m[i][1] = rows[i].y, m.m[i][2] = rows[i].z;
-    return m;
-}
-
 // A rect light of the given size at `center`, emitting along `direction`.
 LightDesc rectLight(const char* name, Vec3 center, Vec3 direction, float size, float intensity) {
     LightDesc light;
