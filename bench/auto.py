@@ -2,14 +2,22 @@
 
 For each scene: a reference (the path tracer at unbounded depth for --reference-seconds; where a
 sun is seen only through glass, the consistent progressivePhotonMap, as in bench/untuned.py), then
-at each budget T every technique at its defaults with time limit T and `auto` with time limit T
-(its pilots included). Printed per scene and budget: each run's measured seconds, RMSE on sRGB8
-and mean FLIP against the reference, auto's choice and pilot seconds, and auto's error over the
-best single technique's (the goal: at most 1.10, in both metrics) and over the path tracer's (at
-most 1.00). Figures are from one run on a shared machine: compare within a table.
+at each budget T, in rounds: every technique at its defaults with time limit T (seed = the round,
+1, 2, ...) and `auto` with time limit T (its pilots included; seeds 1, 11, 21, ...). A technique's
+error is the mean over its --seeds renders: one render's RMSE varies between seeds and with the
+machine's speed over minutes (on Sponza at 10 s the adaptive cache gave 4.95, 5.09 and 5.03 codes
+in three seeds, the path tracer 5.83, 5.75 and 5.74, and one render each earlier that day 4.67 and 5.43),
+and the least of six single renders is a lucky draw, which no choice can match on average. The
+rounds interleave the techniques and auto so that all see the machine alike.
+
+Printed per scene and budget: each run's measured seconds, RMSE on sRGB8 and mean FLIP against
+the reference, auto's choice and pilot seconds, and auto's error over the best technique's mean
+(the issue's goal: at most 1.10, in both metrics) and over the path tracer's mean (at most 1.00);
+the measure proposed in README (within 1.10 of the best in RMSE, at most 1.05 of the path
+tracer's) beside it. Figures are from one run on a shared machine: compare within a table.
 
     .venv/bin/python bench/auto.py [--scenes cornell,room,room-sky,sponza,sibenik,sibenik-portals,sibenik-windows]
-        [--budgets 10,60] [--resolution 160 120] [--reference-seconds 120] [--auto-runs 1]
+        [--budgets 10,60] [--resolution 160 120] [--reference-seconds 120] [--seeds 2] [--auto-runs 2]
 """
 import argparse
 import time
@@ -28,6 +36,7 @@ SCENES = {"cornell": (ROOT / "scenes/cornell/cornell.usda", False),
           "sibenik-windows": (ROOT / "scenes/sibenik/sibenik.usda", True),
           "sibenik-portals": (ROOT / "scenes/sibenik/sibenik_sky_portals.usda", True)}
 GOAL_OVER_BEST, GOAL_OVER_PATH = 1.10, 1.00
+PROPOSED_OVER_PATH = 1.05  # the pilots' share of T costs the path tracer about sqrt(1 / 0.9)
 
 
 def render(loaded, integrator, resolution, seconds, seed=1):
@@ -49,7 +58,8 @@ def main():
     parser.add_argument("--resolution", type=int, nargs=2, default=(160, 120))
     parser.add_argument("--reference-seconds", type=float, default=120.0)
     parser.add_argument("--glass-reference", default="progressivePhotonMap")
-    parser.add_argument("--auto-runs", type=int, default=1, help="auto renders per scene and budget")
+    parser.add_argument("--seeds", type=int, default=2, help="renders per technique (seeds 1, 2, ...)")
+    parser.add_argument("--auto-runs", type=int, default=2, help="auto renders per scene and budget")
     args = parser.parse_args()
     resolution = tuple(args.resolution)
     techniques = list(_core.auto_candidates())
@@ -63,37 +73,53 @@ def main():
         for budget in [float(b) for b in args.budgets.split(",")]:
             print(f"\n## {name} ({path.name}), {resolution[0]}x{resolution[1]}, T = {budget:g} s: reference "
                   f"{ref_integrator} {ref.spp} spp in {ref_wall:.0f} s")
-            print("| technique | seconds | spp | RMSE sRGB8 | FLIP |")
-            print("|---|---|---|---|---|")
-            errors, walls = {}, {}
-            for integrator in techniques:
-                result, wall = render(loaded, integrator, resolution, budget)
-                m = metrics.compare(np.asarray(result.color), reference)
-                errors[integrator] = (m.rmse_srgb8, m.flip)
-                walls[integrator] = wall
-                print(f"| {integrator} | {wall:.1f} | {result.spp} | {m.rmse_srgb8:.2f} | {m.flip:.4f} |", flush=True)
-            best = min(techniques, key=lambda t: errors[t][0])
-            best_rmse = errors[best][0]
-            best_flip = min(errors[t][1] for t in techniques)
-            for run in range(args.auto_runs):  # seeds 1, 11, 21, ...: pilots and render differ
-                result, wall = render(loaded, "auto", resolution, budget, seed=1 + 10 * run)
-                m = metrics.compare(np.asarray(result.color), reference)
-                print(f"| auto -> {result.integrator} | {wall:.1f} | {result.spp} | {m.rmse_srgb8:.2f} | "
-                      f"{m.flip:.4f} |\n\n{result.auto_summary}\n", flush=True)
-                row = (name, budget, m.rmse_srgb8 / best_rmse, m.flip / best_flip,
-                       m.rmse_srgb8 / errors["path"][0], m.flip / errors["path"][1], result.integrator, best,
-                       result.stats["auto_pilot_seconds"], wall, max(walls[t] for t in techniques))
+            print("| run | seed | seconds | spp | RMSE sRGB8 | FLIP |")
+            print("|---|---|---|---|---|---|")
+            errors = {t: [] for t in techniques}
+            walls = {t: [] for t in techniques}
+            autos = []  # (integrator, RMSE, FLIP, pilot seconds, wall)
+            for round_ in range(max(args.seeds, args.auto_runs)):
+                if round_ < args.seeds:
+                    for integrator in techniques:
+                        result, wall = render(loaded, integrator, resolution, budget, seed=1 + round_)
+                        m = metrics.compare(np.asarray(result.color), reference)
+                        errors[integrator].append((m.rmse_srgb8, m.flip))
+                        walls[integrator].append(wall)
+                        print(f"| {integrator} | {1 + round_} | {wall:.1f} | {result.spp} | {m.rmse_srgb8:.2f} | "
+                              f"{m.flip:.4f} |", flush=True)
+                if round_ < args.auto_runs:  # seeds 1, 11, 21, ...: pilots and render differ
+                    result, wall = render(loaded, "auto", resolution, budget, seed=1 + 10 * round_)
+                    m = metrics.compare(np.asarray(result.color), reference)
+                    autos.append((result.integrator, m.rmse_srgb8, m.flip, result.stats["auto_pilot_seconds"], wall))
+                    print(f"| auto -> {result.integrator} | {1 + 10 * round_} | {wall:.1f} | {result.spp} | "
+                          f"{m.rmse_srgb8:.2f} | {m.flip:.4f} |\n\n{result.auto_summary}\n", flush=True)
+            mean = {t: tuple(float(np.mean([e[i] for e in errors[t]])) for i in (0, 1)) for t in techniques}
+            print("| technique | mean RMSE sRGB8 (range) | mean FLIP (range) |")
+            print("|---|---|---|")
+            for t in techniques:
+                r, f = [e[0] for e in errors[t]], [e[1] for e in errors[t]]
+                print(f"| {t} | {mean[t][0]:.2f} ({min(r):.2f}-{max(r):.2f}) | {mean[t][1]:.4f} "
+                      f"({min(f):.4f}-{max(f):.4f}) |")
+            best = min(techniques, key=lambda t: mean[t][0])
+            best_flip = min(mean[t][1] for t in techniques)
+            for chosen, rmse, flip, pilots, wall in autos:
+                row = (name, budget, rmse / mean[best][0], flip / best_flip, rmse / mean["path"][0],
+                       flip / mean["path"][1], chosen, best, pilots, wall, max(max(w) for w in walls.values()))
                 summary.append(row)
-                print(f"auto / best: RMSE {row[2]:.2f}, FLIP {row[3]:.2f}; auto / path: RMSE {row[4]:.2f}, "
-                      f"FLIP {row[5]:.2f}")
-    print(f"\n## Summary (goal: auto / best <= {GOAL_OVER_BEST:.2f} and auto / path <= {GOAL_OVER_PATH:.2f})")
+                print(f"auto ({chosen}) / best mean: RMSE {row[2]:.2f}, FLIP {row[3]:.2f}; / path mean: RMSE "
+                      f"{row[4]:.2f}, FLIP {row[5]:.2f}")
+    print(f"\n## Summary (the issue's goal: auto / best <= {GOAL_OVER_BEST:.2f} and auto / path <= "
+          f"{GOAL_OVER_PATH:.2f}, both metrics; proposed: RMSE / best <= {GOAL_OVER_BEST:.2f}, RMSE / path <= "
+          f"{PROPOSED_OVER_PATH:.2f}; against the techniques' means over their seeds)")
     print("| scene | T | auto chose | best (RMSE) | auto / best RMSE, FLIP | auto / path RMSE, FLIP | pilots | "
-          "auto took | slowest technique took | goal met |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          "auto took | slowest technique took | goal met | proposed met |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name, budget, rb, fb, rp, fp, chosen, best, pilots, auto_wall, slowest in summary:
         met = rb <= GOAL_OVER_BEST and fb <= GOAL_OVER_BEST and rp <= GOAL_OVER_PATH and fp <= GOAL_OVER_PATH
+        proposed = rb <= GOAL_OVER_BEST and rp <= PROPOSED_OVER_PATH
         print(f"| {name} | {budget:g} s | {chosen} | {best} | {rb:.2f}, {fb:.2f} | {rp:.2f}, {fp:.2f} | "
-              f"{pilots:.2f} s ({pilots / budget:.0%}) | {auto_wall:.1f} s | {slowest:.1f} s | {'yes' if met else 'no'} |")
+              f"{pilots:.2f} s ({pilots / budget:.0%}) | {auto_wall:.1f} s | {slowest:.1f} s | {'yes' if met else 'no'} | "
+              f"{'yes' if proposed else 'no'} |")
 
 
 if __name__ == "__main__":
