@@ -61,6 +61,8 @@ def main():
     parser.add_argument("--seeds", type=int, default=2, help="renders per technique (seeds 1, 2, ...)")
     parser.add_argument("--auto-runs", type=int, default=2, help="auto renders per scene and budget")
     args = parser.parse_args()
+    if args.seeds < 1:
+        parser.error("--seeds must be at least 1: the ratios are against the techniques' mean errors")
     resolution = tuple(args.resolution)
     techniques = list(_core.auto_candidates())
     summary = []
