@@ -46,7 +46,11 @@ def render(loaded, integrator, resolution, seconds, seed=1):
     s.integrator, s.spp, s.seed, s.time_limit = integrator, 1 << 24, seed, seconds
     start = time.perf_counter()
     result = _core.render(loaded.scene, s)
-    return result, time.perf_counter() - start
+    wall = time.perf_counter() - start
+    # The metrics show NaN as black: a non-finite image must be caught here, not hidden in RMSE.
+    if not np.isfinite(np.asarray(result.color)).all():
+        raise SystemExit(f"{integrator} (seed {seed}, {seconds:g} s) rendered NaN or Inf pixels")
+    return result, wall
 
 
 def main():
