@@ -118,16 +118,27 @@ void recordRecords(const Renderer& renderer, bool firstBatch, std::pair<double, 
                              : 0.0;
 }
 
-// The renderer's progressive passes from sample index `firstSample`: the first (one sample per
+// A pilot batch's seed: batches are independent (AutoPilot::batches), a cache's two caches take the
+// same ones (their batches' camera samples are paired).
+uint32_t pilotBatchSeed(uint32_t seed, int batch) {
+    uint32_t h = seed * 0x9E3779B1u + uint32_t(batch) * 0x85EBCA77u + 0x27D4EB2Fu;
+    h ^= h >> 15;
+    h *= 0x2C1B3C6Du;
+    h ^= h >> 12;
+    h *= 0x297A2D39u;
+    return h ^ (h >> 15);
+}
+
+// The renderer's progressive passes of `seed`'s samples from index 0: the first (one sample per
 // pixel) until `lastDeadline`, the others until `deadline`. The image, or false if some pixel has
-// no sample. `nextSample` is where the next batch starts: past every sample index this one used,
-// its last pass cut at the deadline included; `samples` its samples per pixel, that pass's
-// counted for the pixels it finished. Its passes' sample counts are appended to `passes`, or,
-// with `replay`, those passes are rendered (a second cache's batch takes the first's samples).
-bool renderBatch(Renderer& renderer, int firstSample, double deadline, double lastDeadline,
-                 const std::atomic<bool>* cancel, std::vector<float>& image, int& nextSample, double& samples,
+// no sample; `samples` its samples per pixel, a last pass cut at the deadline counted for the
+// pixels it finished. Its passes' sample counts are appended to `passes`, or, with `replay`,
+// those passes are rendered (a second cache's batch takes the first's samples).
+bool renderBatch(Renderer& renderer, uint32_t seed, double deadline, double lastDeadline,
+                 const std::atomic<bool>* cancel, std::vector<float>& image, double& samples,
                  std::vector<int>& passes, const std::vector<int>* replay = nullptr) {
-    renderer.reset(firstSample);
+    constexpr int firstSample = 0;
+    renderer.reset(firstSample, seed);
     PassEnd end = PassEnd::Complete;
     for (size_t pass = 0; !replay || pass < replay->size(); ++pass) {
         const double passDeadline = renderer.samplesTaken() == 0 ? lastDeadline : deadline;
@@ -140,10 +151,6 @@ bool renderBatch(Renderer& renderer, int firstSample, double deadline, double la
                                                       : renderer.stats().partialPassSamples);
         if (end != PassEnd::Complete || steadySeconds() >= deadline) break;
     }
-    // Right after the last index used: the progressive photon map's radii go on shrinking as in
-    // one render (a gap would give its later batches the radii of a longer render).
-    nextSample = firstSample + renderer.samplesTaken() +
-                 (end == PassEnd::Deadline ? renderer.stats().partialPassSamples : 0);
     if (renderer.samplesTaken() == 0) return false;  // the first pass did not reach every pixel
     samples = renderer.samplesTaken();
     if (end == PassEnd::Deadline) {
@@ -154,8 +161,8 @@ bool renderBatch(Renderer& renderer, int firstSample, double deadline, double la
     return true;
 }
 
-// The pilot of `integrator` in `seconds`: one preprocessing, then up to kAutoPilotBatches batches
-// of consecutive sample indices, each with an equal share of the time left, or one sample per
+// The pilot of `integrator` in `seconds`: one preprocessing, then up to kAutoPilotBatches batches,
+// each of its own seed's samples (pilotBatchSeed) and with an equal share of the time left, or one sample per
 // pixel if that takes longer (an expensive technique's pilot makes fewer batches: as many as
 // fit). A batch that cannot take a sample in every pixel before the pilot's end ends the pilot;
 // it is complete with two batches or more, and incomplete when cancelled. A technique with a
@@ -195,16 +202,17 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
     int preprocesses = 0;
     bool grew = false;  // the second cache traced more photons than the first
     std::pair<double, double> firstRecords;  // its records and samples per pixel after the first batch
-    // The first cache's batches: where each started and its passes' samples, for the second's.
-    std::vector<int> firstStarts;
+    // The first cache's batches' passes (their samples), for the second's.
     std::vector<std::vector<int>> firstPasses;
     for (int c = 0; c < caches; ++c) {
         double end = start + seconds * (c + 1) / caches;
         RenderSettings cs = ps;
         // Both caches take the same camera samples (common random numbers): their difference is
-        // then the caches' own, not the samples' (cacheSeed; the next technique starts 2 seeds on).
+        // then the caches' own, not the samples' (cacheSeed, fixed while the batches' seeds change;
+        // the next technique starts 2 seeds on). A consistent technique has no cache: its
+        // per-pass work (a progressive photon map's photons) takes each batch's seed.
         cs.seed = seed;
-        if (c == 1) cs.cacheSeed = seed + 1;
+        if (!isConsistentTechnique(integrator)) cs.cacheSeed = seed + uint32_t(c);
         // A photon technique's second cache traces more photons, as many as a third of its time
         // allows at the first's preprocessing rate (at most the render's), if that is 2x or more.
         double grownShare = 0;
@@ -228,29 +236,23 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         if (!preprocessed) break;
         // Photons cut short by the deadline stand for those asked: their count is not known.
         if (grownShare > 0 && renderer.stats().preprocessScaledDown == 0) pilot.secondPhotonShare = grownShare;
-        int batches = c == 0 ? kAutoPilotBatches / caches : int(firstStarts.size());
-        int firstSample = 0;
+        int batches = c == 0 ? kAutoPilotBatches / caches : int(firstPasses.size());
         size_t made = 0;
         for (int k = 0; k < batches; ++k) {
             std::vector<float> image;
             const double before = renderer.stats().renderSeconds;
             const double startupBefore = startupThreadSeconds(renderer);
-            const int batchStart = firstSample;
             double samples = 0;
             const double now = steadySeconds();
             // The first cache's first pass may run to the pilot's end (see below).
             const double lastDeadline = caches == 2 && c == 0 && k == 0 ? start + seconds : end;
             std::vector<int> passes;
             // The second cache renders the first's batches, pass for pass, until its end.
-            if (c == 1) firstSample = firstStarts[size_t(k)];
-            if (!renderBatch(renderer, firstSample, c == 1 ? end : now + std::max(0.0, end - now) / (batches - k),
-                             lastDeadline, cancel, image, firstSample, samples, passes,
-                             c == 1 ? &firstPasses[size_t(k)] : nullptr))
+            if (!renderBatch(renderer, pilotBatchSeed(seed, k),
+                             c == 1 ? end : now + std::max(0.0, end - now) / (batches - k), lastDeadline, cancel,
+                             image, samples, passes, c == 1 ? &firstPasses[size_t(k)] : nullptr))
                 break;
-            if (c == 0) {
-                firstStarts.push_back(batchStart);
-                firstPasses.push_back(std::move(passes));
-            }
+            if (c == 0) firstPasses.push_back(std::move(passes));
             batchSeconds = renderer.stats().renderSeconds - before;
             // Records made where the batch's samples first needed them are the cache's start-up,
             // which a longer render spreads over many samples: apart from its steady rate.
@@ -260,10 +262,6 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
             pilot.batchSamples.push_back(samples);
             pilot.batches.push_back(std::move(image));
             if (c == 0 && pilot.refinesRecords) recordRecords(renderer, k == 0, firstRecords, pilot);
-            if (isConsistentTechnique(integrator)) {  // the progressive photon map's sample indices, batch by batch
-                if (pilot.batchStarts.empty()) pilot.batchStarts.push_back(batchStart);
-                pilot.batchStarts.push_back(firstSample);
-            }
             ++made;
             // Where two caches could not each make two batches (the first cache's preprocessing and
             // two batches like its first would take over half the pilot: on Sponza at 37x28 a

@@ -479,16 +479,17 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                                                         : std::min(1.0, cacheBatches * ratio);
                 cacheShare = std::max(cacheShare, recordShare);
             }
-            if (pilot.radiusAlpha > 0 && pilot.batchStarts.size() == pilot.batches.size() + 1) {
+            if (pilot.radiusAlpha > 0) {
                 // Its radii shrink: its bias goes as the mean s_i, and its noise falls more
                 // slowly than 1 / samples (as samples^-alpha), each pass noisier than the last.
-                const double first = pilot.batchStarts.front(), end = pilot.batchStarts.back();
-                const double finalSamples = std::min(1e9, (end - first) / batches / ratio);
+                // Each batch took the indices [0, its samples).
+                const double finalSamples = std::min(1e9, meanSamples / ratio);
                 const double a = pilot.radiusAlpha;
-                const double blur = meanRadiusPower(a, 0, finalSamples, 1) / meanRadiusPower(a, first, end, 1);
+                const double blur =
+                    meanRadiusPower(a, 0, finalSamples, 1) / meanRadiusPower(a, 0, std::max(1.0, meanSamples), 1);
                 biasShare = std::min(1.0, blur * blur);
                 noiseShare = std::min(1.0, ratio * meanRadiusPower(a, 0, finalSamples, -1) /
-                                               meanRadiusPower(a, first, end, -1));
+                                               meanRadiusPower(a, 0, std::max(1.0, meanSamples), -1));
             }
             p.predictedBias = p.bias * biasShare;
             p.predictedCacheNoise = p.cacheNoise * cacheShare;

@@ -161,7 +161,8 @@ bool Renderer::preprocess(const std::atomic<bool>* cancel, double deadline) {
     return true;
 }
 
-void Renderer::reset(int firstSample) {
+void Renderer::reset(int firstSample, std::optional<uint32_t> seed) {
+    if (seed) settings_.seed = *seed;
     film_.clear();
     samplesTaken_ = 0;
     firstSample_ = firstSample;

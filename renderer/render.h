@@ -140,9 +140,10 @@ public:
     int samplesTaken() const { return samplesTaken_; }
     const Camera& camera() const { return camera_; }
     // Clears the film, keeps the preprocessed integrator. The next passes take sample indices
-    // from `firstSample` on: an image independent of the first one from the same preprocessing
-    // (auto's pilots measure a cache's noise so).
-    void reset(int firstSample = 0);
+    // from `firstSample` on, and with `seed` that seed's samples (and, where no cacheSeed is set,
+    // the integrator's per-pass work: a progressive photon map's photons): an image independent
+    // of the first one from the same preprocessing (auto's pilots measure their noise so).
+    void reset(int firstSample = 0, std::optional<uint32_t> seed = std::nullopt);
 
 private:
     // Integrator "auto": runs the pilots in part of the time before `deadline` (or of the

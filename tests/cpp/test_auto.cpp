@@ -15,6 +15,7 @@ namespace gi {
 namespace {
 
 using test::addIcosphere;
+using test::buildFloorUnderRectLight;
 using test::lambert;
 
 constexpr int kPilotWidth = 64, kPilotHeight = 32, kPilotPixels = kPilotWidth * kPilotHeight;
@@ -510,6 +511,55 @@ TEST(Auto, WeighsBatchesByTheirSamples) {
     double mean = 0;
     for (double n : samples) mean += n / double(samples.size());
     EXPECT_NEAR(predictedNoise(cache, 1.0), kSigma * kSigma / mean, 0.03 * kSigma * kSigma / mean);
+}
+
+// Pilot batches take their own seeds' samples from index 0 (auto_select.h), because batches of
+// consecutive indices of one seed are stratified against each other: their mean is less noisy
+// than their spread says, which hid biases under the noise subtracted. A floor under a rect light,
+// one sample per batch, so each pixel's value is one light sample's estimate (pixels have their own
+// scrambles, so 1024 of them are 1024 draws): the variance of the 8 batches' mean over the pixels
+// against the mean of their spread / 8. Independent batches: 1 to within the estimates' error
+// (about 5% each); consecutive ones: far below.
+TEST(Auto, PilotBatchesAreIndependentSoTheirSpreadIsTheirMeansNoise) {
+    Scene scene;
+    buildFloorUnderRectLight(scene, 0.5f, 4.0f);
+    scene.commit();
+    RenderSettings settings;
+    settings.width = settings.height = 32;
+    settings.spp = 1 << 20;
+    settings.integrator = "path";
+    settings.seed = 3;
+    Renderer renderer(scene, settings);
+    ASSERT_TRUE(renderer.preprocess());
+    constexpr int kBatches = 8, kPixels = 32 * 32;
+    auto meanNoiseOverSpread = [&](bool independent) {
+        std::vector<std::vector<float>> batches;
+        for (int k = 0; k < kBatches; ++k) {
+            if (independent) renderer.reset(0, 1000 + uint32_t(k));
+            else renderer.reset(k);
+            EXPECT_TRUE(renderer.renderPass(independent ? 0 : k, 1));
+            batches.push_back(renderer.film().color());
+        }
+        double meanOfMeans = 0, spread = 0;
+        std::vector<double> means(kPixels);
+        for (int i = 0; i < kPixels; ++i) {
+            double sum = 0, squares = 0;
+            for (const auto& b : batches) {
+                sum += b[size_t(i) * 3];
+                squares += double(b[size_t(i) * 3]) * b[size_t(i) * 3];
+            }
+            means[size_t(i)] = sum / kBatches;
+            meanOfMeans += means[size_t(i)] / kPixels;
+            spread += (squares - sum * sum / kBatches) / (kBatches - 1) / kBatches / kPixels;
+        }
+        double variance = 0;
+        for (double m : means) variance += (m - meanOfMeans) * (m - meanOfMeans) / (kPixels - 1);
+        return variance / spread;
+    };
+    const double independent = meanNoiseOverSpread(true), consecutive = meanNoiseOverSpread(false);
+    EXPECT_GT(independent, 0.8);
+    EXPECT_LT(independent, 1.25);
+    EXPECT_LT(consecutive, 0.5);
 }
 
 TEST(Auto, TheRendererResolvesAutoAndKeepsTheTimeLimit) {
