@@ -162,13 +162,13 @@ bool renderBatch(Renderer& renderer, uint32_t seed, double deadline, double last
 }
 
 // The pilot of `integrator` in `seconds`: one preprocessing, then up to kAutoPilotBatches batches,
-// each of its own seed's samples (pilotBatchSeed) and with an equal share of the time left, or one sample per
-// pixel if that takes longer (an expensive technique's pilot makes fewer batches: as many as
-// fit). A batch that cannot take a sample in every pixel before the pilot's end ends the pilot;
-// it is complete with two batches or more, and incomplete when cancelled. A technique with a
-// cache (records, photon maps) preprocesses twice, with two seeds, each with half the time and
-// half the batches, so that the two caches' difference measures the cache's own noise; a second
-// cache that makes fewer than two batches is dropped, and the pilot is as with one.
+// each of its own seed's samples (pilotBatchSeed) and with an equal share of the time left, or one
+// sample per pixel if that takes longer (an expensive technique's pilot makes fewer batches: as
+// many as fit). A batch that cannot take a sample in every pixel before the pilot's end ends the
+// pilot; it is complete with two batches or more, and incomplete when cancelled. A technique with a
+// cache (records, photon maps) preprocesses twice, with two seeds, each with half the time and half
+// the batches, so that the two caches' difference measures the cache's own noise; a second cache
+// that makes fewer than two batches is dropped, and the pilot is as with one.
 AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const CameraDesc& camera,
                       const std::string& integrator, const PixelMosaic& mosaic, double seconds, uint32_t seed,
                       const std::atomic<bool>* cancel) {

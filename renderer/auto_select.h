@@ -7,20 +7,20 @@
 //
 // Pilots are samples of the final render: about kAutoPilotPixels of its own pixels in
 // kAutoPilotTiles tiles (pilotMosaic), the same camera, and photon counts scaled with the pixel
-// count (photon tracing costs as much per pixel as in the render). Each
-// technique preprocesses and renders up to kAutoPilotBatches batches in equal shares of the
-// time left (each at least one sample per pixel, so an expensive technique makes fewer), each an
-// image of its own seed's samples from index 0, so that the batches are independent and their
-// spread is their mean's noise: batches of consecutive indices of one seed are stratified against
-// each other (Owen-scrambled Sobol points), so their mean had less noise than their spread said,
-// and what bias there was hid under it (Sibenik with portals: the photon cache's single-cache
-// pilots, three batches of one sample, measured 46-66 codes squared from R where their spread
-// said 75-96 of noise, so no bias, and predicted 0.5-1.0 codes for 1.8 reached). A technique with a cache (irradiance records,
-// photon maps) preprocesses twice, with two seeds, and renders half its batches from each: the
-// two caches' difference is the cache's own noise, which shrinks in the render (records gain
-// paths with the camera's samples, photon maps have the render's photons); what both share is
-// bias, which no number of camera samples removes. Where two caches cannot each make two batches
-// in the pilot's time, one cache takes all of it.
+// count (photon tracing costs as much per pixel as in the render). Each technique preprocesses and
+// renders up to kAutoPilotBatches batches in equal shares of the time left (each at least one
+// sample per pixel, so an expensive technique makes fewer), each an image of its own seed's samples
+// from index 0, so that the batches are independent and their spread is their mean's noise: batches
+// of consecutive indices of one seed are stratified against each other (Owen-scrambled Sobol
+// points), so their mean had less noise than their spread said, and what bias there was hid under
+// it (Sibenik with portals: the photon cache's single-cache pilots, two or three batches of one
+// sample, measured 46-66 codes squared from R where their spread said 75-96 of noise, so no bias,
+// and predicted 0.5-1.0 codes for 1.8 reached; bench runs in README). A technique with a cache
+// (irradiance records, photon maps) preprocesses twice, with two seeds, and renders half its
+// batches from each: the two caches' difference is the cache's own noise, which shrinks in the
+// render (records gain paths with the camera's samples, photon maps have the render's photons);
+// what both share is bias, which no number of camera samples removes. Where two caches cannot each
+// make two batches in the pilot's time, one cache takes all of it.
 //
 // The prediction is of the RMSE on 8-bit sRGB codes f (the thesis's metric), and its noise part is
 // made from linear batch values, because f compresses highlights: in a pilot of few samples a
@@ -70,10 +70,10 @@
 //            the mean batch's samples);
 //            b2 * (h(N) / h(n))^2 + noise(r g(N) / g(n)) for the progressive photon map (its b2
 //            its blur against the path tracer, scaled from the pilot's wider radii), n a
-//            batch's samples (each took indices from 0) and N = n / r the render's, h and g the mean of s_i and 1 / s_i
-//            over their sample indices, s_i = (r_i / r_1)^2: its blur goes as r^2, and each
-//            sample's photon noise as 1 / r^2, so its noise falls as N^-alpha, not N^-1 (on the
-//            Cornell box at 60 s 1 / N predicted 0.55 for 0.9 reached);
+//            batch's samples (each took indices from 0) and N = n / r the render's, h and g
+//            the mean of s_i and 1 / s_i over their sample indices, s_i = (r_i / r_1)^2: its
+//            blur goes as r^2, and each sample's photon noise as 1 / r^2, so its noise falls as
+//            N^-alpha, not N^-1 (on the Cornell box at 60 s 1 / N predicted 0.55 for 0.9 reached);
 //            b2 + c2 * share + noise(r) for the others, share the larger of the pilot's records'
 //            mean paths over the render's (records refined as the render goes on: their paths
 //            grow more slowly than the samples where the render keeps making records; 1 if not
