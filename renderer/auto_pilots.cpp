@@ -7,6 +7,7 @@
 
 #include "auto_select.h"
 #include "render.h"
+#include "sampler.h"
 
 namespace gi {
 
@@ -120,14 +121,7 @@ void recordRecords(const Renderer& renderer, bool firstBatch, std::pair<double, 
 
 // A pilot batch's seed: batches are independent (AutoPilot::batches), a cache's two caches take the
 // same ones (their batches' camera samples are paired).
-uint32_t pilotBatchSeed(uint32_t seed, int batch) {
-    uint32_t h = seed * 0x9E3779B1u + uint32_t(batch) * 0x85EBCA77u + 0x27D4EB2Fu;
-    h ^= h >> 15;
-    h *= 0x2C1B3C6Du;
-    h ^= h >> 12;
-    h *= 0x297A2D39u;
-    return h ^ (h >> 15);
-}
+uint32_t pilotBatchSeed(uint32_t seed, int batch) { return hashCombine(seed, uint32_t(batch)); }
 
 // The renderer's progressive passes of `seed`'s samples from index 0: the first (one sample per
 // pixel) until `lastDeadline`, the others until `deadline`. The image, or false if some pixel has

@@ -484,12 +484,12 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                 // slowly than 1 / samples (as samples^-alpha), each pass noisier than the last.
                 // Each batch took the indices [0, its samples).
                 const double finalSamples = std::min(1e9, meanSamples / ratio);
+                const double pilotSamples = std::max(1.0, meanSamples);
                 const double a = pilot.radiusAlpha;
-                const double blur =
-                    meanRadiusPower(a, 0, finalSamples, 1) / meanRadiusPower(a, 0, std::max(1.0, meanSamples), 1);
+                const double blur = meanRadiusPower(a, 0, finalSamples, 1) / meanRadiusPower(a, 0, pilotSamples, 1);
                 biasShare = std::min(1.0, blur * blur);
                 noiseShare = std::min(1.0, ratio * meanRadiusPower(a, 0, finalSamples, -1) /
-                                               meanRadiusPower(a, 0, std::max(1.0, meanSamples), -1));
+                                               meanRadiusPower(a, 0, pilotSamples, -1));
             }
             p.predictedBias = p.bias * biasShare;
             p.predictedCacheNoise = p.cacheNoise * cacheShare;
