@@ -18,6 +18,14 @@ double SecondsSince(Clock::time_point t) { return std::chrono::duration<double>(
 // enough that the image refreshes often.
 constexpr int kMaxPassSamples = 8;
 HdGiRenderBuffer* BufferOf(HdRenderPassAovBinding const& aov) { return dynamic_cast<HdGiRenderBuffer*>(aov.renderBuffer); }
+// What auto's choice depends on besides the scene and the view: the budget (time limit), the
+// preset and parameters, the threads. Empty when the integrator is not "auto".
+std::string AutoSettings(gi::RenderSettings const& settings) {
+    if (settings.integrator != gi::kAutoIntegrator) return {};
+    std::string text = settings.preset + ";" + std::to_string(settings.timeLimit) + ";" + std::to_string(settings.threads);
+    for (auto const& [name, value] : settings.params.values()) text += ";" + name + "=" + std::to_string(value);
+    return text;
+}
 }  // namespace
 
 bool HdGiIsSupportedAov(TfToken const& name) {
@@ -92,6 +100,8 @@ bool HdGiRenderSession::_Render(HdGiRenderJob const& job, bool showsAovs, bool l
     gi::RenderSettings settings = job.settings;
     settings.width = job.dataWindow.GetWidth();
     settings.height = job.dataWindow.GetHeight();
+    std::string const autoSettings = AutoSettings(settings);
+    if (!autoSettings.empty() && autoSettings == _autoChoiceFor) settings.keptAutoChoice = _autoChoice;
     if (showsAovs && _RenderPreview(job, settings)) stats.firstPixelSeconds = SecondsSince(start);
     std::unique_ptr<gi::Renderer> renderer;
     try {
@@ -117,8 +127,11 @@ bool HdGiRenderSession::_Render(HdGiRenderJob const& job, bool showsAovs, bool l
             return !_thread->IsStopRequested();
         }
         if (!reportedChoice && !renderer->autoChoice().integrator.empty()) {  // "auto" chose in this pass's preprocess
-            TF_STATUS("hdGi: %s", renderer->autoChoice().summary().c_str());
+            // A kept choice is said once, when it was made, not on every restart.
+            if (!renderer->autoChoice().kept) TF_STATUS("hdGi: %s", renderer->autoChoice().summary().c_str());
             reportedChoice = true;
+            _autoChoice = renderer->autoChoice().integrator;
+            _autoChoiceFor = autoSettings;
         }
         int taken = renderer->samplesTaken();
         converged = taken >= target || end == gi::PassEnd::Deadline || (deadline > 0 && gi::steadySeconds() >= deadline);

@@ -6,6 +6,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 
 #include "pxr/base/gf/matrix4d.h"
 #include "pxr/base/gf/rect2i.h"
@@ -108,6 +109,11 @@ private:
     // could not be loaded (warned once; colour stays raw).
     std::unique_ptr<gi::Denoiser> _denoiser;
     bool _denoiserMissing = false;
+    // Integrator "auto": the session's choice, kept for its later renders (restarts after a
+    // camera move or an edit, later frames and render products) while auto's settings are those it
+    // was made for (_autoChoiceFor), as `gi render` keeps it for its frames
+    // (RenderSettings::keptAutoChoice). Render thread only.
+    std::string _autoChoice, _autoChoiceFor;
 };
 
 PXR_NAMESPACE_CLOSE_SCOPE

@@ -201,6 +201,7 @@ double recordPathsShare(const AutoPilot& pilot, double renderSamples, double pix
 }  // namespace
 
 std::string AutoChoice::summary() const {
+    if (kept) return "auto: kept " + integrator + ", chosen by an earlier render (no pilots)";
     const std::string pixels = pilotTile > 0 ? std::to_string(pilotTiles) + " tiles of " + std::to_string(pilotTile) +
                                                    "x" + std::to_string(pilotTile) + " pixels"
                                              : "the whole image";

@@ -171,6 +171,7 @@ struct AutoChoice {
     int pilotTile = 0, pilotTiles = 0;  // the pilots' tiles of the image (0: the whole image)
     std::vector<AutoPrediction> predictions;
     bool cancelled = false;
+    bool kept = false;  // an earlier render's choice, taken without pilots (RenderSettings::keptAutoChoice)
     std::string summary() const;  // one line: the choice and every prediction
 };
 

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <stdexcept>
@@ -87,6 +88,14 @@ Renderer::Renderer(const Scene& scene, const RenderSettings& settings, const Cam
         throw std::invalid_argument("integrator " + info->name + " has no parameter '" + name + "' (it takes: " +
                                     (names.empty() ? "none" : names) + ")");
     }
+    if (!settings.keptAutoChoice.empty()) {
+        const auto& candidates = autoCandidates();
+        if (settings.integrator != kAutoIntegrator)
+            throw std::invalid_argument("a kept auto choice ('" + settings.keptAutoChoice + "') is for integrator " +
+                                        kAutoIntegrator + ", not " + settings.integrator);
+        if (std::find(candidates.begin(), candidates.end(), settings.keptAutoChoice) == candidates.end())
+            throw std::invalid_argument("'" + settings.keptAutoChoice + "' is not a technique auto chooses");
+    }
     settings_.params = withPreset(settings.preset, settings.integrator, settings.params);
     if (settings.integrator != kAutoIntegrator) integrator_ = info->create(settings_.params);
     CameraDesc desc = camera ? *camera : scene.hasCamera() ? scene.cameraDesc() : defaultCamera(scene);
@@ -121,7 +130,14 @@ bool Renderer::chooseAutomatically(const std::atomic<bool>* cancel, double deadl
     double share = paramValue(automatic, settings_.params, "autoPilotShare");
     double budget = deadline > 0 ? std::max(0.0, deadline - steadySeconds())
                                  : paramValue(automatic, settings_.params, "autoHorizon");
-    autoChoice_ = chooseIntegrator(scene_, settings_, cameraDesc_, (1 - share) * budget, share * budget, cancel);
+    if (!settings_.keptAutoChoice.empty()) {  // an earlier render's choice: no pilots, the whole budget
+        autoChoice_ = AutoChoice();
+        autoChoice_.integrator = settings_.keptAutoChoice;
+        autoChoice_.kept = true;
+        autoChoice_.budgetSeconds = budget;
+    } else {
+        autoChoice_ = chooseIntegrator(scene_, settings_, cameraDesc_, (1 - share) * budget, share * budget, cancel);
+    }
     if (autoChoice_.cancelled) return false;
     // The chosen technique takes the render's preset and the parameters every integrator takes.
     ParamSet shared;

@@ -34,6 +34,12 @@ struct RenderSettings {
     std::string integrator = "path";
     ParamSet params;
     std::string preset;  // a named parameter set (integrator.h) under `params`; empty = the defaults
+    // Integrator "auto" only: the technique an earlier render chose (AutoChoice::integrator), taken
+    // without pilots. Pilots are timed, so two renders may choose apart where two techniques come
+    // close; a sequence's frames, a command's render products and a Hydra session's restarts keep
+    // the first render's choice instead, so that they do not switch (flicker) between techniques.
+    // Empty: the pilots choose.
+    std::string keptAutoChoice;
     uint32_t seed = 0;
     // The seed of the integrator's preprocessing and caches (records, photon maps), where it
     // differs from the camera samples' `seed`: auto's pilots render two caches from the same

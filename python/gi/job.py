@@ -106,6 +106,12 @@ def cmd_job(args, render_parser, flags):
     flags.chosen(render, render_parser)  # integrator flags the integrator does not take
     if args.tiles is not None and why_tiles_differ(render):
         raise ValueError(f"--tiles with {why_tiles_differ(render)}")
+    if render.integrator == "auto" and len(args.frames) > args.chunk:
+        # One gi render keeps its first frame's choice for the rest; separate tasks cannot.
+        raise ValueError(f"--integrator auto with {-(-len(args.frames) // args.chunk)} chunks: each task would "
+                         "choose its own technique from timed pilots, and the sequence could switch techniques "
+                         "between chunks; give the technique auto chooses (gi render --integrator auto says), "
+                         "or one chunk")
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     name = args.name or f"gi {scene.stem}"

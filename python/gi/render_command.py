@@ -133,6 +133,9 @@ def cmd_render(args, flags, parser):
     label = f"{Path(args.scene).name} [{args.integrator}]"
     bar, update = progress_bar(f"{label} {len(frames)} frames" if args.frames else label, sys.stderr.isatty())
     warned = set()  # each load's warnings once, not once per frame
+    # auto: the first render's choice renders every later frame and target (no pilots), so that a
+    # sequence does not switch between techniques (RenderSettings::keptAutoChoice).
+    kept_choice = ""
     steps = len(frames) * len(targets)
     start = time.perf_counter()  # each frame's time counts its load (done as the sequence advances)
     try:
@@ -150,6 +153,7 @@ def cmd_render(args, flags, parser):
                                            target.resolution or (tuple(args.resolution) if args.resolution else None),
                                            args.filter)
                 settings.preset = args.preset or ""
+                settings.kept_auto_choice = kept_choice
                 if target.product is not None:
                     settings.aspect_ratio_conform_policy, settings.pixel_aspect_ratio = target.product.framing
                 if args.tile:
@@ -169,6 +173,8 @@ def cmd_render(args, flags, parser):
                         warn(message)
                 if result.auto_summary:
                     print(f"gi: {result.auto_summary}", file=sys.stderr)
+                if args.integrator == "auto":
+                    kept_choice = result.integrator
                 metadata = exr_metadata(args, params, result, frame.loaded, wall_seconds, frame.number, seed)
                 denoised, denoised_text = None, ""
                 if denoiser is not None and target.product is None:

@@ -305,6 +305,7 @@ struct PyRenderSettings {
     std::string integrator = "path";
     nb::dict params;
     std::string preset;
+    std::string keptAutoChoice;
     uint32_t seed = 0;
     int threads = 0;
     double timeLimit = 0;
@@ -330,6 +331,7 @@ RenderSettings toRenderSettings(const PyRenderSettings& py) {
     settings.height = py.height;
     settings.spp = py.spp;
     settings.integrator = py.integrator;
+    settings.keptAutoChoice = py.keptAutoChoice;
     settings.seed = py.seed;
     settings.threads = py.threads;
     settings.timeLimit = py.timeLimit;
@@ -425,6 +427,8 @@ void bindRendering(nb::module_& m) {
         .def_rw("integrator", &PyRenderSettings::integrator)
         .def_rw("params", &PyRenderSettings::params)
         .def_rw("preset", &PyRenderSettings::preset)
+        .def_rw("kept_auto_choice", &PyRenderSettings::keptAutoChoice,
+                "integrator 'auto': the technique an earlier render chose, taken without pilots")
         .def_rw("seed", &PyRenderSettings::seed)
         .def_rw("threads", &PyRenderSettings::threads)
         .def_rw("time_limit", &PyRenderSettings::timeLimit)

@@ -584,5 +584,38 @@ TEST(Auto, TheRendererResolvesAutoAndKeepsTheTimeLimit) {
     EXPECT_GT(renderer.samplesTaken(), 0);
 }
 
+// A kept choice (a sequence's later frames, a Hydra session's restarts) renders that technique
+// without pilots, the image bit for bit the technique's own; a name auto does not choose, or a
+// kept choice for another integrator, is refused.
+TEST(Auto, AKeptChoiceRendersThatTechniqueWithoutPilots) {
+    Scene scene;
+    int m = scene.addMaterial(lambert(Color(0.5f), Color(0.5f)));
+    addIcosphere(scene, 1.0f, 2, m);
+    scene.commit();
+    RenderSettings settings;
+    settings.width = 32;
+    settings.height = 24;
+    settings.spp = 2;
+    settings.seed = 7;
+    settings.integrator = "irradianceCache";
+    Renderer direct(scene, settings);
+    direct.render();
+    settings.integrator = "auto";
+    settings.keptAutoChoice = "irradianceCache";
+    Renderer kept(scene, settings);
+    kept.render();
+    EXPECT_EQ(kept.integratorName(), "irradianceCache");
+    EXPECT_TRUE(kept.autoChoice().kept);
+    EXPECT_TRUE(kept.autoChoice().predictions.empty());
+    EXPECT_EQ(kept.autoChoice().pilotSeconds, 0.0);
+    EXPECT_EQ(kept.autoChoice().summary(), "auto: kept irradianceCache, chosen by an earlier render (no pilots)");
+    EXPECT_EQ(kept.film().color(), direct.film().color());
+    settings.keptAutoChoice = "direct";
+    EXPECT_THROW(Renderer(scene, settings), std::invalid_argument);
+    settings.integrator = "path";
+    settings.keptAutoChoice = "irradianceCache";
+    EXPECT_THROW(Renderer(scene, settings), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace gi

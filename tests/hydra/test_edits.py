@@ -34,6 +34,21 @@ def test_edits_in_one_session(tmp_path):
     assert images["light_hidden"].max() < 1e-6
 
 
+def test_auto_keeps_its_choice_through_edits(tmp_path):
+    """gi:integrator auto chooses once in a session: its pilots are timed and may choose apart, and
+    a session must not switch techniques (nor pay for pilots) at every edit or camera move. So the
+    technique is chosen once, and undoing an edit gives back the very same image."""
+    script = REPO / "tests/hydra/scripts/record_edits.py"
+    result = run_openusd([openusd_python(), str(script), str(CORNELL), str(tmp_path), "64", "auto", "2", "1"])
+    log = result.stdout + result.stderr
+    assert not hdgi_errors(log), result.stderr
+    assert log.count("hdGi: auto: chose ") == 1, log[-3000:]
+    original, moved, moved_back = (read_rgb(tmp_path / f"{name}.exr") for name in ("original", "moved", "moved_back"))
+    assert np.isfinite(original).all() and np.isfinite(moved).all()
+    assert not np.array_equal(original, moved)
+    assert np.array_equal(original, moved_back)
+
+
 def test_an_edit_reads_no_texture_again(tmp_path):
     """A scene edit rebuilds the renderer's scene; textures whose files did not change come from
     the session's image cache instead of being read again (Sponza's would take seconds)."""

@@ -68,3 +68,16 @@ def test_auto_sees_the_sun_through_glass():
     technique's pilot completes on a loaded 2-core machine too."""
     result = render_auto(ROOM, 6.0, (128, 96), autoPilotShare=0.5)
     assert result.integrator in PHOTON_TECHNIQUES, result.auto_summary
+
+
+def test_a_sequence_keeps_the_first_frames_choice(tmp_path):
+    # Timed pilots may choose apart from frame to frame; a sequence must not switch techniques.
+    out = tmp_path / "auto.####.exr"
+    proc = run_gi("render", CORNELL, "--integrator", "auto", "--auto-horizon", 1, "--spp", 1,
+                  "--resolution", 32, 24, "--frames", "1-3", "-o", out, "--no-png")
+    assert proc.stderr.count("gi: auto: chose ") == 1, proc.stderr
+    chosen = proc.stderr.split("gi: auto: chose ")[1].split()[0]
+    assert proc.stderr.count(f"gi: auto: kept {chosen}, chosen by an earlier render (no pilots)") == 2
+    for frame in (1, 2, 3):
+        _, meta = _core.read_image(str(tmp_path / f"auto.{frame:04d}.exr"))
+        assert meta["gi:integrator"] == chosen

@@ -143,6 +143,7 @@ def test_merge_names_a_missing_tile(tmp_path):
     (("--tiles", "2x", "--"), "is not a tile"),
     (("--chunk", "151"), "at most 150 frames"),
     (("--tiles", "2x2", "--", "--integrator", "auto"), "--tiles with --integrator auto"),
+    (("--chunk", "1", "--", "--integrator", "auto"), "--integrator auto with 2 chunks: each task would choose"),
     (("--tiles", "2x2", "--", "--denoise"), "--tiles with --denoise"),
 ])
 def test_job_refuses_what_would_fail_on_the_farm(tmp_path, options, message):

@@ -9,12 +9,15 @@ from pathlib import Path
 from pxr import Gf, Sdf, Usd, UsdAppUtils, UsdGeom, UsdShade
 
 scene, out, width, integrator, samples = sys.argv[1], Path(sys.argv[2]), int(sys.argv[3]), sys.argv[4], int(sys.argv[5])
+auto_horizon = float(sys.argv[6]) if len(sys.argv) > 6 else None  # integrator auto: its gi:auto:autoHorizon
 out.mkdir(parents=True, exist_ok=True)
 
 stage = Usd.Stage.Open(scene)
 settings = stage.GetPrimAtPath("/Render/Settings")
 settings.CreateAttribute("gi:integrator", Sdf.ValueTypeNames.String, custom=True).Set(integrator)
 settings.CreateAttribute("gi:samples", Sdf.ValueTypeNames.Int, custom=True).Set(samples)
+if auto_horizon is not None:
+    settings.CreateAttribute("gi:auto:autoHorizon", Sdf.ValueTypeNames.Float, custom=True).Set(auto_horizon)
 
 recorder = UsdAppUtils.FrameRecorder("HdGiRendererPlugin", False)
 recorder.SetActiveRenderSettingsPrimPath(Sdf.Path("/Render/Settings"))
