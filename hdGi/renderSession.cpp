@@ -181,6 +181,7 @@ bool HdGiRenderSession::_RenderPreview(HdGiRenderJob const& job, gi::RenderSetti
     preview.height = (settings.height + kPreviewScale - 1) / kPreviewScale;
     preview.window = gi::PixelWindow();
     preview.integrator = "path";
+    preview.keptAutoChoice.clear();
     preview.params = gi::ParamSet();
     preview.preset.clear();
     preview.spp = 1;

@@ -27,6 +27,17 @@ def test_a_large_view_shows_a_preview_before_its_first_pass():
     assert 0 < pixels == first_pass, (pixels, first_pass)
 
 
+def test_auto_keeps_its_preview_after_an_edit():
+    # The second render keeps the first one's choice (no pilots); its preview is still path-traced.
+    result = run_openusd([openusd_python(), str(STATS), str(CORNELL), "320", "auto:autoHorizon=1", "2", "0", "light"])
+    log = result.stdout + result.stderr
+    assert not hdgi_errors(log), result.stderr
+    assert log.count("hdGi: auto: chose ") == 1, log[-3000:]
+    report = json.loads(result.stdout.strip().splitlines()[-1])
+    for stats in (report["stats"], report["stats_after_edit"]):
+        assert 0 < stats["firstPixelSeconds"] < stats["firstPassSeconds"], stats
+
+
 def test_the_preview_leaves_the_converged_image_unchanged(tmp_path):
     width, spp, seed = 320, 4, 2
     session = settings_layer(tmp_path / "session.usda", integrator="path", samples=spp, seed=seed)

@@ -8,6 +8,7 @@ the stage's first mesh is moved three times, rendering after each; the stats aft
 printed as "stats_after_moves" (with the mesh's path as "moved"). With EDIT = "hide", the first
 mesh is hidden, then shown; with EDIT = "material", it is bound to another material, then to its
 own again: the stats after each are printed as "stats_after_edits" (its path as "edited").
+INTEGRATOR may carry parameters: auto:autoHorizon=1 sets gi:auto:autoHorizon to 1.
     record_stats.py SCENE WIDTH INTEGRATOR SAMPLES [SEED] [EDIT]"""
 import json
 import sys
@@ -36,7 +37,11 @@ parameters.gpuEnabled = False
 engine = UsdImagingGL.Engine(parameters)
 if not engine.SetRendererPlugin("HdGiRendererPlugin"):
     sys.exit("the Gi renderer plugin did not load")
+integrator, _, integrator_params = integrator.partition(":")
 engine.SetRendererSetting("gi:integrator", integrator)
+for assignment in filter(None, integrator_params.split(",")):
+    name, _, value = assignment.partition("=")
+    engine.SetRendererSetting(f"gi:{integrator}:{name}", float(value))
 engine.SetRendererSetting("convergedSamplesPerPixel", samples)
 engine.SetRendererSetting("gi:seed", seed)
 engine.SetRendererAov("color")
