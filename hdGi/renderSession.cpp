@@ -101,7 +101,12 @@ bool HdGiRenderSession::_Render(HdGiRenderJob const& job, bool showsAovs, bool l
     settings.width = job.dataWindow.GetWidth();
     settings.height = job.dataWindow.GetHeight();
     std::string const autoSettings = AutoSettings(settings);
-    if (!autoSettings.empty() && autoSettings == _autoChoiceFor) settings.keptAutoChoice = _autoChoice;
+    if (autoSettings.empty()) {  // another technique: choosing auto again chooses anew
+        _autoChoice.clear();
+        _autoChoiceFor.clear();
+    } else if (autoSettings == _autoChoiceFor) {
+        settings.keptAutoChoice = _autoChoice;
+    }
     if (showsAovs && _RenderPreview(job, settings)) stats.firstPixelSeconds = SecondsSince(start);
     std::unique_ptr<gi::Renderer> renderer;
     try {

@@ -112,7 +112,7 @@ private:
     // Integrator "auto": the session's choice, kept for its later renders (restarts after a
     // camera move or an edit, later frames and render products) while auto's settings are those it
     // was made for (_autoChoiceFor), as `gi render` keeps it for its frames
-    // (RenderSettings::keptAutoChoice). Render thread only.
+    // (RenderSettings::keptAutoChoice); a render with another technique drops it. Render thread only.
     std::string _autoChoice, _autoChoiceFor;
 };
 

@@ -562,14 +562,22 @@ TEST(Auto, PilotBatchesAreIndependentSoTheirSpreadIsTheirMeansNoise) {
     EXPECT_LT(consecutive, 0.5);
 }
 
-TEST(Auto, TheRendererResolvesAutoAndKeepsTheTimeLimit) {
-    Scene scene;
-    int m = scene.addMaterial(lambert(Color(0.5f), Color(0.5f)));
-    addIcosphere(scene, 1.0f, 2, m);
+// A sphere that reflects and emits half (no other light), and a 32x24 render of it (the default camera).
+void addGreySphere(Scene& scene) {
+    addIcosphere(scene, 1.0f, 2, scene.addMaterial(lambert(Color(0.5f), Color(0.5f))));
     scene.commit();
+}
+RenderSettings smallRender() {
     RenderSettings settings;
     settings.width = 32;
     settings.height = 24;
+    return settings;
+}
+
+TEST(Auto, TheRendererResolvesAutoAndKeepsTheTimeLimit) {
+    Scene scene;
+    addGreySphere(scene);
+    RenderSettings settings = smallRender();
     settings.spp = 1 << 20;
     settings.integrator = "auto";
     settings.timeLimit = 1.0;
@@ -589,12 +597,8 @@ TEST(Auto, TheRendererResolvesAutoAndKeepsTheTimeLimit) {
 // kept choice for another integrator, is refused.
 TEST(Auto, AKeptChoiceRendersThatTechniqueWithoutPilots) {
     Scene scene;
-    int m = scene.addMaterial(lambert(Color(0.5f), Color(0.5f)));
-    addIcosphere(scene, 1.0f, 2, m);
-    scene.commit();
-    RenderSettings settings;
-    settings.width = 32;
-    settings.height = 24;
+    addGreySphere(scene);
+    RenderSettings settings = smallRender();
     settings.spp = 2;
     settings.seed = 7;
     settings.integrator = "irradianceCache";

@@ -47,6 +47,12 @@ def test_auto_keeps_its_choice_through_edits(tmp_path):
     assert np.isfinite(original).all() and np.isfinite(moved).all()
     assert not np.array_equal(original, moved)
     assert np.array_equal(original, moved_back)
+    # Choosing another technique and then auto again chooses anew.
+    stats = REPO / "tests/hydra/scripts/record_stats.py"
+    result = run_openusd([openusd_python(), str(stats), str(CORNELL), "64", "auto:autoHorizon=1", "2", "0", "reselect"])
+    log = result.stdout + result.stderr
+    assert not hdgi_errors(log), result.stderr
+    assert log.count("hdGi: auto: chose ") == 2, log[-3000:]
 
 
 def test_an_edit_reads_no_texture_again(tmp_path):

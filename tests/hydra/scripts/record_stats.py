@@ -7,7 +7,8 @@ rebuild in the same session); its stats are printed as "stats_after_edit". With 
 the stage's first mesh is moved three times, rendering after each; the stats after each move are
 printed as "stats_after_moves" (with the mesh's path as "moved"). With EDIT = "hide", the first
 mesh is hidden, then shown; with EDIT = "material", it is bound to another material, then to its
-own again: the stats after each are printed as "stats_after_edits" (its path as "edited").
+own again: the stats after each are printed as "stats_after_edits" (its path as "edited"). With
+EDIT = "reselect", the path tracer renders, then INTEGRATOR again ("stats_after_reselect").
 INTEGRATOR may carry parameters: auto:autoHorizon=1 sets gi:auto:autoHorizon to 1.
     record_stats.py SCENE WIDTH INTEGRATOR SAMPLES [SEED] [EDIT]"""
 import json
@@ -75,6 +76,11 @@ if edit == "light":
         if intensity and intensity.HasAuthoredValue():
             intensity.Set(2 * intensity.Get())
     report["stats_after_edit"] = render_until_converged()
+elif edit == "reselect":
+    engine.SetRendererSetting("gi:integrator", "path")
+    render_until_converged()
+    engine.SetRendererSetting("gi:integrator", integrator)
+    report["stats_after_reselect"] = render_until_converged()
 elif edit == "move":
     mesh = next(p for p in stage.Traverse() if p.IsA(UsdGeom.Mesh))
     translate = UsdGeom.Xformable(mesh).AddTranslateOp(opSuffix="benchEdit")
