@@ -207,12 +207,15 @@ std::string AutoChoice::summary() const {
                                              : "the whole image";
     std::string text = "auto: chose " + integrator + " for " + std::to_string(int(std::lround(budgetSeconds))) +
                        " s after " + std::to_string(pilotSeconds).substr(0, 4) + " s of pilots on " + pixels +
-                       "; predicted RMSE (sRGB codes; its square = bias + cache noise + sample noise):";
+                       "; predicted RMSE (sRGB codes; its square = bias + cache noise + sample noise; a kept bias's "
+                       "standard error after it):";
     for (const AutoPrediction& p : predictions) {
         char buffer[192];
+        char error[32] = "";  // a kept bias's standard error (AutoPrediction::biasError)
+        if (p.biasError > 0) std::snprintf(error, sizeof error, " +- %.2f", p.biasError);
         if (p.complete)
-            std::snprintf(buffer, sizeof buffer, " %s %.2f (%.2f + %.2f + %.2f)%s", p.integrator.c_str(),
-                          p.predictedRmse, p.predictedBias, p.predictedCacheNoise, p.predictedSampleNoise,
+            std::snprintf(buffer, sizeof buffer, " %s %.2f (%.2f%s + %.2f + %.2f)%s", p.integrator.c_str(),
+                          p.predictedRmse, p.predictedBias, error, p.predictedCacheNoise, p.predictedSampleNoise,
                           &p == &predictions.back() ? "" : ",");
         else  // its pilot rendered fewer than two batches in its share
             std::snprintf(buffer, sizeof buffer,
@@ -296,6 +299,113 @@ double predictedNoise(const AutoPilot& pilot, double q, const std::vector<uint8_
             }
     return values > 0 ? sum / values : 0;
 }
+
+namespace {
+
+// A pilot's bias estimate against R (auto_select.h: e, c2, b2 before its clamp at 0), with the
+// cache noise parts it subtracts.
+struct BiasEstimate {
+    double bias = 0;               // b2, unclamped
+    double cacheNoise = 0;         // c2: the first cache's own noise
+    double meanCacheNoise = 0;     // what of the caches' noise the pilot's mean holds, over the kept values
+    double sharedSampleNoise = 0;  // the two caches' common samples' part of the mean's noise
+};
+
+BiasEstimate estimateBias(const AutoPilot& pilot, const std::vector<double>& referenceCodes, double referenceVariance,
+                          const std::vector<uint8_t>& kept) {
+    BiasEstimate estimate;
+    const std::vector<double> codes =
+        srgbCodes(meanImage(pilot.batches, sampleWeights(pilot, 0, pilot.batches.size())));
+    const double error = meanSquaredDifference(codes, referenceCodes, &kept) - referenceVariance;
+    const double keptNoise = predictedNoise(pilot, 1.0 / double(pilot.batches.size()), &kept);
+    const size_t split = size_t(pilot.firstCacheBatches);
+    const bool photonLaw = split > 0 && pilot.photonShare > 0 && pilot.secondPhotonShare > pilot.photonShare;
+    const std::pair<double, double> photonsShort =
+        photonLaw ? std::make_pair(1 / pilot.photonShare, 1 / pilot.secondPhotonShare) : std::make_pair(1.0, 1.0);
+    if (split > 0) {
+        // Two caches of the same camera samples, batch for batch (common random numbers):
+        // their paired batches' mean difference, less the noise of that difference (its
+        // spread over the pairs), is both caches' own noise. Unpaired, the samples' noise
+        // of both means had to be subtracted: on Sponza at 160x120 about 600 codes squared,
+        // estimated to within 10-20%, against some 50 of the caches' own.
+        const size_t pairs = std::min(split, pilot.batches.size() - split);
+        const AutoPilot firstCache = cachePilot(pilot, 0, pairs),
+                        secondCache = cachePilot(pilot, split, split + pairs);
+        const AutoPilot differences = pairedDifferences(firstCache, secondCache);
+        const std::vector<double> firstCodes = srgbCodes(meanImage(firstCache.batches, firstCache.batchSamples));
+        const std::vector<double> secondCodes = srgbCodes(meanImage(secondCache.batches, secondCache.batchSamples));
+        // The difference's noise, over `values`: from the pairs' spread, which also holds how
+        // the caches' difference drifts from batch to batch (the records their batches add:
+        // on the Cornell box the photon cache's pairs spread by 25.6 codes squared, its
+        // batches by 1.2 each), or as the two means' noise, which counts their common samples'
+        // as if apart; each is at least the noise, so the smaller.
+        auto differenceNoise = [&](const std::vector<uint8_t>* values) {
+            return std::min(predictedNoise(differences, 1.0 / double(pairs), values),
+                            predictedNoise(firstCache, 1.0 / double(pairs), values) +
+                                predictedNoise(secondCache, 1.0 / double(pairs), values));
+        };
+        auto excess = [&](const std::vector<uint8_t>* values, double noise) {
+            return std::max(0.0, meanSquaredDifference(firstCodes, secondCodes, values) - noise);
+        };
+        const double keptDifferenceNoise = differenceNoise(&kept);
+        // A photon map's noise goes as 1 / its photons: each cache's as x_j, its photons'
+        // shortfall from the render's (1 / photonShare), and the first cache's is the
+        // difference's x_1 / (x_1 + x_2) (a half with alike caches).
+        const double firstShare = photonsShort.first / (photonsShort.first + photonsShort.second);
+        estimate.cacheNoise = excess(nullptr, differenceNoise(nullptr)) * firstShare;
+        // The mean of all batches, weighed by their samples, holds w_1^2 c_1 + w_2^2 c_2 of it.
+        double firstSamples = 0, allSamples = 0;
+        for (size_t b = 0; b < pilot.batches.size(); ++b) {
+            const double samples = pilot.batchSamples.size() == pilot.batches.size() ? pilot.batchSamples[b] : 1;
+            allSamples += samples;
+            if (b < split) firstSamples += samples;
+        }
+        const double w1 = firstSamples / allSamples, w2 = 1 - w1;
+        // Over the bias's values:
+        estimate.meanCacheNoise = excess(&kept, keptDifferenceNoise) * firstShare *
+                                  (w1 * w1 + w2 * w2 * photonsShort.second / photonsShort.first);
+        // The caches share their samples, so the mean's noise has, beside each cache's own
+        // (keptNoise), 2 w_1 w_2 Cov(M_1, M_2), and Var(M_1 - M_2) = V_1 + V_2 - 2 Cov.
+        const double v1 = predictedNoise(cachePilot(pilot, 0, split), 1.0 / double(split), &kept),
+                     v2 = predictedNoise(cachePilot(pilot, split, pilot.batches.size()),
+                                         1.0 / double(pilot.batches.size() - split), &kept);
+        estimate.sharedSampleNoise = w1 * w2 * std::max(0.0, v1 + v2 - keptDifferenceNoise);
+    }
+    estimate.bias = error - keptNoise - estimate.sharedSampleNoise - estimate.meanCacheNoise;
+    return estimate;
+}
+
+// The jackknife's standard error of b2: b2 again without each of the pilot's batches in turn (with
+// two caches, without each pair of paired batches), R kept. 0 where fewer than three batches (pairs)
+// leave nothing to compare.
+double biasStandardError(const AutoPilot& pilot, const std::vector<double>& referenceCodes, double referenceVariance,
+                         const std::vector<uint8_t>& kept) {
+    const size_t K = pilot.batches.size(), split = size_t(pilot.firstCacheBatches);
+    const size_t units = split > 0 ? std::min(split, K - split) : K;
+    if (units < 3) return 0;
+    std::vector<double> biases;
+    for (size_t u = 0; u < units; ++u) {
+        AutoPilot part = pilot;
+        auto drop = [&](size_t index) {
+            part.batches.erase(part.batches.begin() + long(index));
+            if (part.batchSamples.size() == K) part.batchSamples.erase(part.batchSamples.begin() + long(index));
+        };
+        if (split > 0) {
+            drop(split + u);
+            drop(u);
+            part.firstCacheBatches = int(split - 1);
+        } else {
+            drop(u);
+        }
+        biases.push_back(estimateBias(part, referenceCodes, referenceVariance, kept).bias);
+    }
+    double mean = 0, spread = 0;
+    for (double b : biases) mean += b / double(units);
+    for (double b : biases) spread += (b - mean) * (b - mean);
+    return std::sqrt(spread * double(units - 1) / double(units));
+}
+
+}  // namespace
 
 AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotPixels, double pixels,
                              double budgetSeconds) {
@@ -387,66 +497,15 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
         if (p.complete) {
             const double batches = double(pilots[k].batches.size());
             p.noise = predictedNoise(pilots[k], 1.0);
-            double error = meanSquaredDifference(srgbCodes(means[k]), referenceCodes, &kept) - referenceVariance;
             const AutoPilot& pilot = pilots[k];
             const size_t split = size_t(pilot.firstCacheBatches);
             const bool photonLaw = split > 0 && pilot.photonShare > 0 && pilot.secondPhotonShare > pilot.photonShare;
             const std::pair<double, double> photonsShort =
                 photonLaw ? std::make_pair(1 / pilot.photonShare, 1 / pilot.secondPhotonShare) : std::make_pair(1.0, 1.0);
-            double meanCacheNoise = 0;
-            double sharedSampleNoise = 0;  // the two caches' common samples' part of the mean's noise
-            if (split > 0) {
-                // Two caches of the same camera samples, batch for batch (common random numbers):
-                // their paired batches' mean difference, less the noise of that difference (its
-                // spread over the pairs), is both caches' own noise. Unpaired, the samples' noise
-                // of both means had to be subtracted: on Sponza at 160x120 about 600 codes squared,
-                // estimated to within 10-20%, against some 50 of the caches' own.
-                const size_t pairs = std::min(split, pilot.batches.size() - split);
-                const AutoPilot firstCache = cachePilot(pilot, 0, pairs),
-                                secondCache = cachePilot(pilot, split, split + pairs);
-                const AutoPilot differences = pairedDifferences(firstCache, secondCache);
-                const std::vector<double> firstCodes =
-                    srgbCodes(meanImage(firstCache.batches, firstCache.batchSamples));
-                const std::vector<double> secondCodes =
-                    srgbCodes(meanImage(secondCache.batches, secondCache.batchSamples));
-                // The difference's noise, over `values`: from the pairs' spread, which also holds how
-                // the caches' difference drifts from batch to batch (the records their batches add:
-                // on the Cornell box the photon cache's pairs spread by 25.6 codes squared, its
-                // batches by 1.2 each), or as the two means' noise, which counts their common samples'
-                // as if apart; each is at least the noise, so the smaller.
-                auto differenceNoise = [&](const std::vector<uint8_t>* values) {
-                    return std::min(predictedNoise(differences, 1.0 / double(pairs), values),
-                                    predictedNoise(firstCache, 1.0 / double(pairs), values) +
-                                        predictedNoise(secondCache, 1.0 / double(pairs), values));
-                };
-                auto excess = [&](const std::vector<uint8_t>* values, double noise) {
-                    return std::max(0.0, meanSquaredDifference(firstCodes, secondCodes, values) - noise);
-                };
-                const double keptDifferenceNoise = differenceNoise(&kept);
-                // A photon map's noise goes as 1 / its photons: each cache's as x_j, its photons'
-                // shortfall from the render's (1 / photonShare), and the first cache's is the
-                // difference's x_1 / (x_1 + x_2) (a half with alike caches).
-                const double firstShare = photonsShort.first / (photonsShort.first + photonsShort.second);
-                p.cacheNoise = excess(nullptr, differenceNoise(nullptr)) * firstShare;
-                // The mean of all batches, weighed by their samples, holds w_1^2 c_1 + w_2^2 c_2 of it.
-                double firstSamples = 0, allSamples = 0;
-                for (size_t b = 0; b < pilot.batches.size(); ++b) {
-                    const double samples = pilot.batchSamples.size() == pilot.batches.size() ? pilot.batchSamples[b] : 1;
-                    allSamples += samples;
-                    if (b < split) firstSamples += samples;
-                }
-                const double w1 = firstSamples / allSamples, w2 = 1 - w1;
-                // Over the bias's values:
-                meanCacheNoise = excess(&kept, keptDifferenceNoise) * firstShare *
-                                 (w1 * w1 + w2 * w2 * photonsShort.second / photonsShort.first);
-                // The caches share their samples, so the mean's noise has, beside each cache's own
-                // (keptNoise), 2 w_1 w_2 Cov(M_1, M_2), and Var(M_1 - M_2) = V_1 + V_2 - 2 Cov.
-                const double v1 = predictedNoise(cachePilot(pilot, 0, split), 1.0 / double(split), &kept),
-                             v2 = predictedNoise(cachePilot(pilot, split, pilot.batches.size()),
-                                                 1.0 / double(pilot.batches.size() - split), &kept);
-                sharedSampleNoise = w1 * w2 * std::max(0.0, v1 + v2 - keptDifferenceNoise);
-            }
-            p.bias = std::max(0.0, error - keptNoise[k] - sharedSampleNoise - meanCacheNoise);
+            const BiasEstimate estimate = estimateBias(pilot, referenceCodes, referenceVariance, kept);
+            p.cacheNoise = estimate.cacheNoise;
+            p.bias = std::max(0.0, estimate.bias);
+            if (!p.consistent) p.biasError = biasStandardError(pilot, referenceCodes, referenceVariance, kept);
             // R holds part of the photon map's own blur: against the path tracer it shows whole.
             // Its pilot's radii are wider in the world by the square root of the pixel counts'
             // ratio (scalePhotonCounts), and its squared blur grows with the radius: on the

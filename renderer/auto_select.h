@@ -158,6 +158,11 @@ struct AutoPrediction {
     double preprocessSeconds = 0;  // of the pilot
     double noise = 0, bias = 0;   // noise(1) (one batch's) and b2 above, sRGB codes squared
     double cacheNoise = 0;        // c2 above: one cache's noise, sRGB codes squared
+    // b2's standard error, for a technique that keeps its bias: the jackknife over its pilot's
+    // batches (pairs of batches with two caches); 0 where not known (fewer than three). Logged, not
+    // used in the choice: taken at b2 + z se, the choice lost more at 10 s than it gained at 60 s
+    // (README).
+    double biasError = 0;
     double predictedRmse = 0;     // sqrt of the predicted MSE at the budget, sRGB codes
     // The predicted MSE's parts at the budget (sRGB codes squared; they sum to predictedRmse^2):
     // the bias left, the cache's own noise left, the camera samples' noise.

@@ -293,9 +293,9 @@ TEST(Auto, SeparatesACachesNoiseFromItsBias) {
     for (const AutoPrediction& p : choice.predictions)
         EXPECT_NEAR(p.predictedBias + p.predictedCacheNoise + p.predictedSampleNoise, mse(p.integrator.c_str()), 1e-9)
             << p.integrator;
-    char part[64];
-    std::snprintf(part, sizeof part, "irradianceCache %.2f (%.2f + %.2f + %.2f)", r.predictedRmse, r.predictedBias,
-                  r.predictedCacheNoise, r.predictedSampleNoise);
+    char part[96];
+    std::snprintf(part, sizeof part, "irradianceCache %.2f (%.2f +- %.2f + %.2f + %.2f)", r.predictedRmse,
+                  r.predictedBias, r.biasError, r.predictedCacheNoise, r.predictedSampleNoise);
     EXPECT_NE(choice.summary().find(part), std::string::npos) << choice.summary();
 }
 
@@ -560,6 +560,34 @@ TEST(Auto, PilotBatchesAreIndependentSoTheirSpreadIsTheirMeansNoise) {
     EXPECT_GT(independent, 0.8);
     EXPECT_LT(independent, 1.25);
     EXPECT_LT(consecutive, 0.5);
+}
+
+// The bias's standard error (the jackknife over the pilot's batches, or pairs of batches with two
+// caches) against the spread of the bias estimate itself over 40 draws of the same pilots: a cache
+// of bias 1 code (1 code squared) under noise of 6 codes a batch, one cache and two, beside a path
+// tracer of the same noise. The draws' standard deviation is known to about 1 / sqrt(2 * 39) = 11%;
+// the jackknife's mean over them must lie within a factor 1.5 of it either way.
+TEST(Auto, TheBiassStandardErrorIsItsSpreadOverPilots) {
+    auto fixed = [](size_t) { return 1.0; };
+    constexpr int kDraws = 40;
+    for (bool twoCaches : {false, true}) {
+        double sum = 0, squares = 0, errors = 0;
+        for (uint32_t draw = 0; draw < kDraws; ++draw) {
+            AutoPilot path = syntheticPilot("path", 0, 6, 0.1, 1000 + 2 * draw);
+            AutoPilot cache = twoCaches ? twoCachePilot("adaptiveIrradianceCache", fixed, 6, 0, 0.1, 1001 + 2 * draw)
+                                        : syntheticPilot("adaptiveIrradianceCache", 1, 6, 0.1, 1001 + 2 * draw);
+            AutoChoice choice = predictFromPilots({path, cache}, kPilotPixels, 4.0 * kPilotPixels, 4.0);
+            const AutoPrediction& p = prediction(choice, "adaptiveIrradianceCache");
+            EXPECT_GT(p.biasError, 0) << p.integrator;
+            EXPECT_EQ(prediction(choice, "path").biasError, 0);  // consistent: not asked
+            sum += p.bias;
+            squares += p.bias * p.bias;
+            errors += p.biasError / kDraws;
+        }
+        const double spread = std::sqrt((squares - sum * sum / kDraws) / (kDraws - 1));
+        EXPECT_GT(errors, spread / 1.5) << "two caches: " << twoCaches;
+        EXPECT_LT(errors, spread * 1.5) << "two caches: " << twoCaches;
+    }
 }
 
 // A sphere that reflects and emits half (no other light), and a 32x24 render of it (the default camera).
