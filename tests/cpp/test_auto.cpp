@@ -567,7 +567,7 @@ TEST(Auto, PilotBatchesAreIndependentSoTheirSpreadIsTheirMeansNoise) {
 // of bias 1 code (1 code squared) under noise of 6 codes a batch, one cache and two, beside a path
 // tracer of the same noise. The draws' standard deviation is known to about 1 / sqrt(2 * 39) = 11%;
 // the jackknife's mean over them must lie within a factor 1.5 of it either way.
-TEST(Auto, TheBiassStandardErrorIsItsSpreadOverPilots) {
+TEST(Auto, TheBiasStandardErrorIsItsSpreadOverPilots) {
     auto fixed = [](size_t) { return 1.0; };
     constexpr int kDraws = 40;
     for (bool twoCaches : {false, true}) {
