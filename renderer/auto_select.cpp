@@ -132,6 +132,17 @@ std::vector<uint8_t> valuesForBias(const AutoPilot* path, size_t n) {
     return kept;
 }
 
+// Whether a photon technique's second cache traced more photons than its first (the law a + b x).
+bool hasPhotonLaw(const AutoPilot& pilot) {
+    return pilot.firstCacheBatches > 0 && pilot.photonShare > 0 && pilot.secondPhotonShare > pilot.photonShare;
+}
+
+// Each cache's photons short of the render's, x_1 and x_2 (1 and 1 without that law).
+std::pair<double, double> photonsShortOf(const AutoPilot& pilot) {
+    return hasPhotonLaw(pilot) ? std::make_pair(1 / pilot.photonShare, 1 / pilot.secondPhotonShare)
+                               : std::make_pair(1.0, 1.0);
+}
+
 // The batches [first, end) of a pilot, as a pilot of one cache.
 AutoPilot cachePilot(const AutoPilot& pilot, size_t first, size_t end) {
     AutoPilot part = pilot;
@@ -319,9 +330,7 @@ BiasEstimate estimateBias(const AutoPilot& pilot, const std::vector<double>& ref
     const double error = meanSquaredDifference(codes, referenceCodes, &kept) - referenceVariance;
     const double keptNoise = predictedNoise(pilot, 1.0 / double(pilot.batches.size()), &kept);
     const size_t split = size_t(pilot.firstCacheBatches);
-    const bool photonLaw = split > 0 && pilot.photonShare > 0 && pilot.secondPhotonShare > pilot.photonShare;
-    const std::pair<double, double> photonsShort =
-        photonLaw ? std::make_pair(1 / pilot.photonShare, 1 / pilot.secondPhotonShare) : std::make_pair(1.0, 1.0);
+    const std::pair<double, double> photonsShort = photonsShortOf(pilot);
     if (split > 0) {
         // Two caches of the same camera samples, batch for batch (common random numbers):
         // their paired batches' mean difference, less the noise of that difference (its
@@ -499,9 +508,8 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             p.noise = predictedNoise(pilots[k], 1.0);
             const AutoPilot& pilot = pilots[k];
             const size_t split = size_t(pilot.firstCacheBatches);
-            const bool photonLaw = split > 0 && pilot.photonShare > 0 && pilot.secondPhotonShare > pilot.photonShare;
-            const std::pair<double, double> photonsShort =
-                photonLaw ? std::make_pair(1 / pilot.photonShare, 1 / pilot.secondPhotonShare) : std::make_pair(1.0, 1.0);
+            const bool photonLaw = hasPhotonLaw(pilot);
+            const std::pair<double, double> photonsShort = photonsShortOf(pilot);
             const BiasEstimate estimate = estimateBias(pilot, referenceCodes, referenceVariance, kept);
             p.cacheNoise = estimate.cacheNoise;
             p.bias = std::max(0.0, estimate.bias);
