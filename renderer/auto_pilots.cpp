@@ -13,6 +13,10 @@ namespace gi {
 
 namespace {
 
+// The share of the progressive photon map's pilot that renders its ray-traced part alone
+// (AutoPilot::rayTracedBatches: no photons, so a sample costs a fraction of the technique's).
+constexpr double kRayTracedShare = 0.1;
+
 // A pilot's share of the pilot time: the path tracer's noise shows in few samples (but each of
 // its batches needs a sample in every pixel, and its heavy tail a few); the photon
 // techniques must first trace and index their photons, and the progressive photon map, which
@@ -20,7 +24,7 @@ namespace {
 // tracer misses (a sun through glass), so its pilot must complete.
 double pilotWeight(const std::string& integrator) {
     if (integrator == "path") return 1;
-    if (integrator == "progressivePhotonMap") return 2;
+    if (integrator == "progressivePhotonMap") return 2 / (1 - kRayTracedShare);
     if (integrator == "photonMapIrradianceCache" || integrator == "photonMapFinalGather") return 1.5;
     return 1;
 }
@@ -155,6 +159,31 @@ bool renderBatch(Renderer& renderer, uint32_t seed, double deadline, double last
     return true;
 }
 
+// The progressive photon map's ray-traced part (AutoPilot::rayTracedBatches): up to
+// kAutoPilotBatches batches of the technique's batch seeds with no photons, until `end`.
+void renderRayTracedPart(const Scene& scene, const RenderSettings& ps, const CameraDesc& camera, uint32_t seed,
+                         double end, const std::atomic<bool>* cancel, AutoPilot& pilot) {
+    RenderSettings rs = ps;
+    rs.params.set("photonsPerPass", 0);
+    Renderer renderer(scene, rs, &camera);
+    if (!renderer.preprocess(cancel, end)) return;
+    for (int k = 0; k < kAutoPilotBatches; ++k) {
+        const double now = steadySeconds();
+        std::vector<float> image;
+        std::vector<int> passes;
+        double samples = 0;
+        if (!renderBatch(renderer, pilotBatchSeed(seed, k), now + std::max(0.0, end - now) / (kAutoPilotBatches - k),
+                         end, cancel, image, samples, passes))
+            break;
+        pilot.rayTracedBatches.push_back(std::move(image));
+        pilot.rayTracedBatchSamples.push_back(samples);
+    }
+    if (pilot.rayTracedBatches.size() < 2) {
+        pilot.rayTracedBatches.clear();
+        pilot.rayTracedBatchSamples.clear();
+    }
+}
+
 // The pilot of `integrator` in `seconds`: one preprocessing, then up to kAutoPilotBatches batches,
 // each of its own seed's samples (pilotBatchSeed) and with an equal share of the time left, or one
 // sample per pixel if that takes longer (an expensive technique's pilot makes fewer batches: as
@@ -170,6 +199,8 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
     pilot.integrator = integrator;
     pilot.seconds = seconds;
     const double start = steadySeconds();
+    const double rayTracedSeconds = integrator == "progressivePhotonMap" ? kRayTracedShare * seconds : 0;
+    const double ownSeconds = seconds - rayTracedSeconds;
     const RenderSettings ps = pilotSettings(settings, integrator, mosaic, seed);
     pilot.width = ps.width;
     pilot.height = ps.height;
@@ -199,7 +230,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
     // The first cache's batches' passes (their samples), for the second's.
     std::vector<std::vector<int>> firstPasses;
     for (int c = 0; c < caches; ++c) {
-        double end = start + seconds * (c + 1) / caches;
+        double end = start + ownSeconds * (c + 1) / caches;
         RenderSettings cs = ps;
         // Both caches take the same camera samples (common random numbers): their difference is
         // then the caches' own, not the samples' (cacheSeed, fixed while the batches' seeds change;
@@ -239,7 +270,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
             double samples = 0;
             const double now = steadySeconds();
             // The first cache's first pass may run to the pilot's end (see below).
-            const double lastDeadline = caches == 2 && c == 0 && k == 0 ? start + seconds : end;
+            const double lastDeadline = caches == 2 && c == 0 && k == 0 ? start + ownSeconds : end;
             std::vector<int> passes;
             // The second cache renders the first's batches, pass for pass, until its end.
             if (!renderBatch(renderer, pilotBatchSeed(seed, k),
@@ -261,9 +292,9 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
             // two batches like its first would take over half the pilot: on Sponza at 37x28 a
             // cache's first samples cost 6x its later ones), the first cache takes the whole
             // pilot: one cache, whose own noise then counts as bias, is better than no pilot.
-            if (caches == 2 && c == 0 && k == 0 && 2 * (steadySeconds() - start + batchSeconds) > seconds) {
+            if (caches == 2 && c == 0 && k == 0 && 2 * (steadySeconds() - start + batchSeconds) > ownSeconds) {
                 caches = 1;
-                end = start + seconds;
+                end = start + ownSeconds;
                 batches = kAutoPilotBatches;
             }
         }
@@ -283,6 +314,9 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
     }
     // The render's photons per pixel are the first cache's: its preprocessing is the one to scale.
     pilot.preprocessSeconds = grew ? firstPreprocessSeconds : preprocessSeconds / std::max(1, preprocesses);
+    if (cancel && cancel->load()) return pilot;
+    if (rayTracedSeconds > 0 && pilot.batches.size() >= 2)
+        renderRayTracedPart(scene, ps, camera, seed, start + seconds, cancel, pilot);
     if (cancel && cancel->load()) return pilot;
     pilot.startupSeconds = startupSeconds;
     if (lastBatchesSamples > 0) pilot.steadySecondsPerSample = lastBatchesSeconds / (lastBatchesSamples * width * height);

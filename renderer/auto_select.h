@@ -68,12 +68,16 @@
 //            cache's costlier start (batches are time slices, so their samples differ: the mean
 //            images weigh them by their samples, and noise(q) scales each batch's deviation to
 //            the mean batch's samples);
-//            b2 * (h(N) / h(n))^2 + noise(r g(N) / g(n)) for the progressive photon map (its b2
-//            its blur against the path tracer, scaled from the pilot's wider radii), n a
-//            batch's samples (each took indices from 0) and N = n / r the render's, h and g
-//            the mean of s_i and 1 / s_i over their sample indices, s_i = (r_i / r_1)^2: its
-//            blur goes as r^2, and each sample's photon noise as 1 / r^2, so its noise falls as
-//            N^-alpha, not N^-1 (on the Cornell box at 60 s 1 / N predicted 0.55 for 0.9 reached);
+//            b2 * (h(N) / h(n))^2 + noise_t(r) + noise(r g(N) / g(n)) - noise_t(r g(N) / g(n))
+//            for the progressive photon map (its b2 its blur against the path tracer, scaled
+//            from the pilot's wider radii), n a batch's samples (each took indices from 0) and
+//            N = n / r the render's, h and g the mean of s_i and 1 / s_i over their sample
+//            indices, s_i = (r_i / r_1)^2: its blur goes as r^2, and each sample's photon noise
+//            as 1 / r^2, so that part falls as N^-alpha, not N^-1 (on the Cornell box at 60 s
+//            1 / N predicted 0.55 for 0.9 reached); noise_t is its ray-traced part's alone
+//            (its pilot's rayTracedBatches, moved to its batches' mean so that f' is the
+//            image's), which the radii do not grow (on Sibenik with portals at 60 s, all of a
+//            sample's noise grown as the photons' predicted 0.82-0.86 for 0.41 reached);
 //            b2 + c2 * share + noise(r) for the others, share the larger of the pilot's records'
 //            mean paths over the render's (records refined as the render goes on: their paths
 //            grow more slowly than the samples where the render keeps making records; 1 if not
@@ -193,6 +197,11 @@ struct AutoPilot {
     // The progressive photon map's alpha: its radii shrink with the sample index (0 otherwise);
     // each batch took indices from 0 on.
     double radiusAlpha = 0;
+    // Its ray-traced part alone (no photons: emission, direct light, specular and glossy paths),
+    // batches of the same seeds in a share of its time, and their samples per pixel; empty where
+    // not measured. Its noise does not grow as the radii shrink.
+    std::vector<std::vector<float>> rayTracedBatches;
+    std::vector<double> rayTracedBatchSamples;
     // Two caches (records or photon maps, two seeds): batches [0, firstCacheBatches) used the
     // first, the others the second; 0: one cache (or none).
     int firstCacheBatches = 0;

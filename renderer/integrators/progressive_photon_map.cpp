@@ -38,6 +38,7 @@ void ProgressivePhotonMapIntegrator::preprocess(const PreprocessContext& context
     seed_ = context.seed;
     footprint_ = PixelFootprint::of(context.camera);
     const Scene& scene = context.scene;
+    if (settings_.photonsPerPass < 1) return;  // the ray-traced part alone: no photon emitters
     if (scene.lights().empty()) {
         scene.warn("progressivePhotonMap: the scene has no light to emit photons; only emission is rendered");
         return;
@@ -54,7 +55,7 @@ void ProgressivePhotonMapIntegrator::beginPass(const PreprocessContext& context,
     firstSample_ = firstSample;
     maps_.assign(size_t(std::max(0, count)), PhotonMap());
     radiusScales_.resize(maps_.size());
-    uint32_t photons = uint32_t(std::clamp(settings_.photonsPerPass, 1.0, kMaxPhotonsPerMap));
+    uint32_t photons = uint32_t(std::clamp(settings_.photonsPerPass, 0.0, kMaxPhotonsPerMap));
     PhotonTracer tracer(context.scene, emitters_.distribution, context.seed, &emitters_.guide);
     PhotonTraceSettings trace;
     trace.maxBounces = settings_.photonDepth;
@@ -62,7 +63,7 @@ void ProgressivePhotonMapIntegrator::beginPass(const PreprocessContext& context,
     for (int i = 0; i < count; ++i) {
         uint32_t sample = uint32_t(firstSample + i);
         radiusScales_[size_t(i)] = radiusScale(sample, settings_.alpha);
-        if (emitters_.empty()) continue;
+        if (emitters_.empty() || photons == 0) continue;
         PhotonTracer::Counters counters;
         uint32_t traced = photons;
         std::vector<Photon> stored =

@@ -20,6 +20,9 @@
 // r_1 is initialRadius pixel footprints at the point, so the radius follows the image's
 // resolution whatever the scene's scale.
 //
+// With photonsPerPass 0 no photon is traced and the image is the ray-traced part alone: what
+// auto's pilot measures the camera's own noise with (auto_select.h).
+//
 // Parameters: photonsPerPass, initialRadius (pixels), alpha, photonDepth, rayDepth, lightSamples.
 #pragma once
 #include <atomic>

@@ -189,7 +189,8 @@ std::vector<IntegratorInfo> buildRegistry() {
         "progressivePhotonMap",
         "progressive photon mapping (stochastic PPM, Knaus-Zwicker form): a new photon map every sample, radii shrinking; "
         "consistent, converges to the right image with samples",
-        {intParam("photonsPerPass", 200000, 1, 1e12, "photons traced for each sample's photon map"),
+        {intParam("photonsPerPass", 200000, 0, 1e12,
+                  "photons traced for each sample's photon map (0: none, the ray-traced part alone)"),
          ParamInfo{"initialRadius", "float", 4, 0.01, 1e6, "density-estimate radius of the first sample, in pixel footprints"},
          ParamInfo{"alpha", "float", 2.0 / 3, 0.01, 1, "radius reduction: r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1)"},
          kPhotonDepth, kRayDepth, kLightSamples},

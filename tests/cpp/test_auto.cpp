@@ -8,6 +8,7 @@
 #include <random>
 
 #include "renderer/auto_select.h"
+#include "renderer/integrators/progressive_photon_map.h"
 #include "renderer/render.h"
 #include "scenes.h"
 
@@ -419,6 +420,45 @@ TEST(Auto, TheReferenceWeighsThePhotonMapsBlur) {
     // and the second-order terms of +-6 codes, 1.2.
     EXPECT_NEAR(prediction(choice, "irradianceCache").bias, 4, 1.2);
     EXPECT_NEAR(prediction(choice, "progressivePhotonMap").bias, 36.0 / 4, 2.5 / 4);
+}
+
+// The progressive photon map's samples: a camera part of sigma_c = 2 codes, which its radii do not
+// touch, and a photons' part of sigma_p = 2 codes at the first radius, whose variance grows as
+// 1 / s_i. Pilot batches of one sample (index 0), and its ray-traced part alone, darker (code 60)
+// with the camera's noise as it is in the image (at code 100). The render of N = 10 samples (r =
+// 0.1) has (sigma_c^2 + sigma_p^2 g) / 10 codes squared, g the mean of 1 / s_i over its samples;
+// all of it grown (the radius law alone) is (sigma_c^2 + sigma_p^2) g / 10 (g = 1.57: 1.26 against
+// 1.03), and with the part's noise taken at its own code 60, where f is steeper, 1.33. The estimates
+// (n = 2048 * 3 values, 7 degrees of freedom each, 0.7% each) and their difference: 4 sigma, 5%.
+TEST(Auto, OnlyThePhotonMapsPhotonNoiseGrowsAsItsRadiiShrink) {
+    constexpr double sigmaCamera = 2, sigmaPhotons = 2, alpha = 2.0 / 3;
+    std::mt19937 rng(71);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    AutoPilot progressive =
+        syntheticPilot("progressivePhotonMap", 0, std::hypot(sigmaCamera, sigmaPhotons), 0.1, 71);
+    progressive.radiusAlpha = alpha;
+    for (int k = 0; k < kAutoPilotBatches; ++k) {
+        std::vector<float> batch(kPilotPixels * 3);
+        for (float& v : batch) v = float(linearOf(60) + sigmaCamera / slopeAt(kTruth) * gauss(rng));
+        progressive.rayTracedBatches.push_back(std::move(batch));
+    }
+    progressive.rayTracedBatchSamples.assign(kAutoPilotBatches, 1.0);
+    double g = 0;
+    for (uint32_t i = 0; i < 10; ++i)
+        g += std::pow(double(ProgressivePhotonMapIntegrator::radiusScale(i, float(alpha))), -2.0) / 10;
+    const AutoPilot path = syntheticPilot("path", 0, 2, 0.1, 72);
+    auto sampleNoise = [&](const AutoPilot& pilot) {
+        return prediction(predictFromPilots({path, pilot}, kPilotPixels, 4.0 * kPilotPixels, 4.0),
+                          "progressivePhotonMap")
+            .predictedSampleNoise;
+    };
+    const double expected = (sigmaCamera * sigmaCamera + sigmaPhotons * sigmaPhotons * g) / 10;
+    EXPECT_NEAR(sampleNoise(progressive), expected, 0.05 * expected);
+    progressive.rayTracedBatches.clear();
+    progressive.rayTracedBatchSamples.clear();
+    const double grown = (sigmaCamera * sigmaCamera + sigmaPhotons * sigmaPhotons) * g / 10;
+    EXPECT_NEAR(sampleNoise(progressive), grown, 0.05 * grown);
+    EXPECT_GT(grown, 1.2 * expected);
 }
 
 // Beside a light the 3x3 window's mean clips at code 255, where f is flat: a centre taken there

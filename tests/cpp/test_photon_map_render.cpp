@@ -776,3 +776,20 @@ TEST(ProgressivePhotonMap, RadiusShrinksAsHachisukaAndJensen) {
     for (int k = 1; k < 16; ++k) product *= (k + 2.0 / 3) / (k + 1);
     EXPECT_NEAR(r.stats.integrator.at("lastRadiusScale"), std::sqrt(product), 1e-5);  // 16th iteration, alpha 2/3
 }
+
+TEST(ProgressivePhotonMap, WithoutPhotonsItIsTheRayTracer) {
+    // photonsPerPass 0 (what auto's pilot measures the camera's own noise with): no photon is
+    // traced and the image is the ray tracer's, bit for bit (the rooms' Lambertian walls have no
+    // glossy lobe for it to trace); with photons, the indirect light adds to it.
+    Scene scene;
+    buildThinWallScene(scene);
+    const Render none = render(scene, "progressivePhotonMap", 32, 4, {{"photonsPerPass", 0}});
+    const Render direct = render(scene, "direct", 32, 4);
+    const Render photons = render(scene, "progressivePhotonMap", 32, 4, {{"photonsPerPass", 20000}});
+    EXPECT_EQ(none.stats.integrator.at("photonsTraced"), 0);
+    EXPECT_TRUE(allFinite(none));
+    EXPECT_EQ(none.rgb, direct.rgb);
+    double sumNone = 0, sumPhotons = 0;
+    for (size_t i = 0; i < none.rgb.size(); ++i) sumNone += none.rgb[i], sumPhotons += photons.rgb[i];
+    EXPECT_GT(sumPhotons, 1.05 * sumNone);
+}
