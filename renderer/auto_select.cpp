@@ -166,19 +166,8 @@ AutoPilot rayTracedPart(const AutoPilot& pilot) {
     AutoPilot part = cachePilot(pilot, 0, pilot.batches.size());
     part.batches = pilot.rayTracedBatches;
     part.batchSamples = pilot.rayTracedBatchSamples;
-    auto weightedMean = [](const std::vector<std::vector<float>>& batches, const std::vector<double>& samples) {
-        std::vector<double> mean(batches[0].size(), 0.0);
-        double total = 0;
-        for (size_t k = 0; k < batches.size(); ++k) {
-            const double w = samples.size() == batches.size() ? samples[k] : 1.0;
-            total += w;
-            for (size_t i = 0; i < mean.size(); ++i) mean[i] += w * batches[k][i];
-        }
-        for (double& m : mean) m /= total;
-        return mean;
-    };
-    const std::vector<double> technique = weightedMean(pilot.batches, pilot.batchSamples),
-                              own = weightedMean(part.batches, part.batchSamples);
+    const std::vector<double> technique = meanImage(pilot.batches, sampleWeights(pilot, 0, pilot.batches.size())),
+                              own = meanImage(part.batches, sampleWeights(part, 0, part.batches.size()));
     for (auto& batch : part.batches)
         for (size_t i = 0; i < batch.size(); ++i) batch[i] = float(batch[i] - own[i] + technique[i]);
     return part;
