@@ -27,7 +27,10 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 
-# name -> (scene, whether its light reaches the view only through glass)
+# name -> (scene, whether its light reaches the view only through glass). With portals, the photon
+# map's reference read 3.7% darker than the path tracer until portal photons carried the light
+# reflected in off the outside (README, "Correction"); the path tracer, which finds the sun through
+# the glass only by its BSDF's rays, is no sure reference there either.
 SCENES = {"cornell": (ROOT / "scenes/cornell/cornell.usda", False),
           "room": (ROOT / "scenes/window_room/window_room.usda", True),
           "room-sky": (ROOT / "scenes/window_room/window_room_sky.usda", False),

@@ -406,7 +406,8 @@ public:
             if (i < 0 || !(pdfArea > 0)) return e;
             Vec3 travel = portals_->portals()[size_t(i)].travel;
             e.ray.d = Frame(travel).toWorld(sampleCosineHemisphere(uDir));
-            e.power = radiance(-e.ray.d, 0) * (kPi / pdfArea);
+            e.powerPerRadiance = kPi / pdfArea;
+            e.power = radiance(-e.ray.d, 0) * e.powerPerRadiance;
             return e;
         }
         LightSample ls = sample(b.center, uDir, 0);

@@ -56,6 +56,9 @@ struct PhotonEmission {
     // Started on a portal inside the scene (portal.h): the light reaches the origin only if the
     // way back along -ray.d is clear, which the photon tracer tests.
     bool fromPortal = false;
+    // A dome's portal photon: its power per unit of the radiance arriving along -ray.d (where the
+    // sky is hidden outside the portal, the photon tracer puts what an outside surface sends there).
+    float powerPerRadiance = 0;
 };
 
 class Light {

@@ -4,9 +4,22 @@
 
 #include <algorithm>
 
+#include "path.h"
 #include "specular_chain.h"
 
 namespace gi {
+
+namespace {
+// Russian roulette's start on the paths that find what an outside surface sends through a portal
+// (the path tracer's default rouletteDepth).
+constexpr int kOutsidePathRouletteDepth = 3;
+}  // namespace
+
+int PhotonTracer::outsideLightCarrierOf(const Scene& scene) {
+    for (size_t i = 0; i < scene.lights().size(); ++i)
+        if (scene.lights()[i]->isDome()) return int(i);
+    return -1;
+}
 
 int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const PhotonTraceSettings& settings,
                         RayStats& stats, const PhotonLanding& land, int* cell) const {
@@ -24,13 +37,33 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
     float const time = sampler.shutterTime();
     PhotonEmission emission = scene_.lights()[light]->emit(uPosition, uDirection, scene_.photonBounds(), time);
     Color beta = emission.power / float(double(pmf) * density * emitted);
-    if (!isFinite(beta) || isBlack(beta) || !isFinite(emission.ray.o) || !isFinite(emission.ray.d)) return light;
-    // A portal's photon carries light only if the sky or sun is seen from its origin: outside the
-    // opening, walls, roofs and window reveals shade it as they shade the opening.
-    if (emission.fromPortal && scene_.occluded(emission.ray.o, -emission.ray.d, kInf, stats, time)) return light;
+    if (!isFinite(emission.ray.o) || !isFinite(emission.ray.d)) return light;
     Ray ray = emission.ray;
     ray.time = time;
     PhotonPath path = PhotonPath::Direct;
+    // A portal's photon carries the light's own radiance only if the sky or sun is seen from its
+    // origin: outside the opening, walls, roofs and window reveals shade it as they shade the
+    // opening. Where they do, the first dome's photon carries what the surface there sends
+    // through the portal (portal.h): a path traced from it, reflected light (indirect).
+    if (emission.fromPortal) {
+        if (light != outsideLightCarrier_) {
+            if (scene_.occluded(emission.ray.o, -emission.ray.d, kInf, stats, time)) return light;
+        } else {
+            Ray back = emission.ray;
+            back.d = -emission.ray.d;
+            back.time = time;
+            Intersection outside = intersectVisible(scene_, back, sampler, stats, false);
+            if (outside.kind == Intersection::Kind::Light) return light;  // that light's own photons
+            if (outside.kind == Intersection::Kind::Surface) {
+                const ShadingPoint there = makeShadingPoint(outside.si, emission.ray.d);
+                const Color reflected =
+                    PathIntegrator(1, kDepthCap, kDepthCap, kOutsidePathRouletteDepth).continuePath(scene_, there, sampler, stats);
+                beta = reflected * (emission.powerPerRadiance / float(double(pmf) * density * emitted));
+                path = PhotonPath::Indirect;
+            }
+        }
+    }
+    if (!isFinite(beta) || isBlack(beta)) return light;
     for (int bounces = 0;; ++bounces) {
         // Lights are not in the BVH: a photon that meets one's surface ends there, as a path does.
         Intersection hit = intersectVisible(scene_, ray, sampler, stats, false);

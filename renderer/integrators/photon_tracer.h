@@ -49,7 +49,7 @@ public:
     // `emitters`: a distribution over scene.lights() (zero for lights that emit none).
     // `guide` (may be null: uniform): where on each light photons start (emission_guide.h).
     PhotonTracer(const Scene& scene, const Distribution1D& emitters, uint32_t seed, const EmissionGuide* guide = nullptr)
-        : scene_(scene), emitters_(emitters), seed_(seed), guide_(guide) {}
+        : scene_(scene), emitters_(emitters), seed_(seed), guide_(guide), outsideLightCarrier_(outsideLightCarrierOf(scene)) {}
 
     // Traces photon `index` of `stream`, one of `emitted` photons of its pass. Calls
     // land(photon, path, light) at every non-specular surface with a non-black BSDF it
@@ -72,10 +72,15 @@ public:
                                   uint32_t* traced = nullptr) const;
 
 private:
+    // The light whose portal photons carry what outside surfaces send through the portals
+    // (portal.h): the first dome, or -1.
+    static int outsideLightCarrierOf(const Scene& scene);
+
     const Scene& scene_;
     const Distribution1D& emitters_;
     uint32_t seed_;
     const EmissionGuide* guide_;
+    int outsideLightCarrier_;
 };
 
 }  // namespace gi
