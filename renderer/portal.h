@@ -9,7 +9,9 @@
 //   outside the portal (a roof, a window reveal), the sky's and the sun's own light do not come
 //   in along it, but what that outside surface reflects does: a photon of the (first) dome
 //   carries that radiance, estimated by a path traced from the surface (all lights; the
-//   dome's photons leave the portal in every direction), and the others carry nothing. Karma
+//   dome's photons leave the portal in every direction; a quarter of them, weighted by 4, so
+//   that the paths cost the photon map 20% of its samples, not 40%), and the others carry
+//   nothing. Karma
 //   carries nothing there: on Sibenik with portals the progressive photon map then read 0.948 of
 //   its image without portals, where its light comes in off the aisles' roofs and the window
 //   reveals. That still assumes the portals cover every opening the light comes through (light

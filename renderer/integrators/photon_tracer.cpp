@@ -12,7 +12,8 @@ namespace gi {
 namespace {
 // Russian roulette's start on the paths that find what an outside surface sends through a portal
 // (the path tracer's default rouletteDepth).
-constexpr int kOutsidePathRouletteDepth = 3;
+constexpr int kOutsidePathRouletteDepth = 1;
+constexpr float kOutsidePathSurvival = 0.25f;
 }  // namespace
 
 int PhotonTracer::outsideLightCarrierOf(const Scene& scene) {
@@ -55,10 +56,13 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
             Intersection outside = intersectVisible(scene_, back, sampler, stats, false);
             if (outside.kind == Intersection::Kind::Light) return light;  // that light's own photons
             if (outside.kind == Intersection::Kind::Surface) {
+                // Russian roulette first: the path costs several rays, for a small share of the light.
+                if (sampler.get1D() >= kOutsidePathSurvival) return light;
                 const ShadingPoint there = makeShadingPoint(outside.si, emission.ray.d);
                 const Color reflected =
                     PathIntegrator(1, kDepthCap, kDepthCap, kOutsidePathRouletteDepth).continuePath(scene_, there, sampler, stats);
-                beta = reflected * (emission.powerPerRadiance / float(double(pmf) * density * emitted));
+                beta = reflected * (emission.powerPerRadiance /
+                                    float(double(pmf) * density * emitted * kOutsidePathSurvival));
                 path = PhotonPath::Indirect;
             }
         }
