@@ -10,8 +10,11 @@
 namespace gi {
 
 namespace {
-// Russian roulette's start on the paths that find what an outside surface sends through a portal
-// (the path tracer's default rouletteDepth).
+// The paths that find what an outside surface sends through a portal cost several rays each, for
+// a small share of the light: a quarter of them are traced (weighted by 4), with Russian roulette
+// from their first vertex. On Sibenik with portals, all of them with roulette from the third vertex
+// cost the progressive photon map 40% of its samples; these settings 20%, and its noise at 60 s was
+// 0.43 codes squared against 0.49.
 constexpr int kOutsidePathRouletteDepth = 1;
 constexpr float kOutsidePathSurvival = 0.25f;
 }  // namespace
@@ -56,7 +59,6 @@ int PhotonTracer::trace(uint32_t stream, uint32_t index, double emitted, const P
             Intersection outside = intersectVisible(scene_, back, sampler, stats, false);
             if (outside.kind == Intersection::Kind::Light) return light;  // that light's own photons
             if (outside.kind == Intersection::Kind::Surface) {
-                // Russian roulette first: the path costs several rays, for a small share of the light.
                 if (sampler.get1D() >= kOutsidePathSurvival) return light;
                 const ShadingPoint there = makeShadingPoint(outside.si, emission.ray.d);
                 const Color reflected =
