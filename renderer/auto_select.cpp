@@ -147,6 +147,13 @@ std::pair<double, double> photonsShortOf(const AutoPilot& pilot) {
                                : std::make_pair(1.0, 1.0);
 }
 
+// A pilot's batches' mean samples per pixel (0 without any).
+double meanBatchSamples(const AutoPilot& pilot) {
+    double mean = 0;
+    for (double samples : pilot.batchSamples) mean += samples / double(pilot.batchSamples.size());
+    return mean;
+}
+
 // The batches [first, end) of a pilot, as a pilot of one cache.
 AutoPilot cachePilot(const AutoPilot& pilot, size_t first, size_t end) {
     AutoPilot part = pilot;
@@ -552,8 +559,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             const double finalStartup = pilot.startupSeconds * pixels / pilotPixels;
             double finalSecondsPerPixel = std::max(budgetSeconds - finalPreprocess - finalStartup, 1e-3) / pixels;
             // One batch's samples over the render's, those at the rate of the pilot's last batches.
-            double meanSamples = 0;
-            for (double samples : pilot.batchSamples) meanSamples += samples / batches;
+            const double meanSamples = meanBatchSamples(pilot);
             double ratio = std::min(1.0, meanSamples * pilot.steadySecondsPerSample / finalSecondsPerPixel);
             double biasShare = p.consistent ? std::min(1.0, batches * ratio) : 1.0, noiseShare = ratio;
             // A cache's own noise falls as its records gain paths with the camera's samples
@@ -585,10 +591,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                 pilot.rayTracedBatches[0].size() == pilot.batches[0].size()) {
                 // Of each sample's noise only the photons' grows as the radii shrink.
                 const AutoPilot rayTraced = rayTracedPart(pilot);
-                double rayTracedSamples = 0;
-                for (double samples : rayTraced.batchSamples)
-                    rayTracedSamples += samples / double(rayTraced.batchSamples.size());
-                const double scale = rayTracedSamples / std::max(meanSamples, 1e-9);
+                const double scale = meanBatchSamples(rayTraced) / std::max(meanSamples, 1e-9);
                 p.predictedSampleNoise =
                     predictedNoise(rayTraced, ratio * scale) +
                     std::max(0.0, predictedNoise(pilot, noiseShare) - predictedNoise(rayTraced, noiseShare * scale));
@@ -600,11 +603,8 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                 // samples (on the Cornell box, final gathering's noise x samples was 157 at the
                 // pilot's 27,000 photons and 73 at the render's 500,000: bench/pilot_accuracy.py).
                 const AutoPilot first = cachePilot(pilot, 0, split), second = cachePilot(pilot, split, pilot.batches.size());
-                double meanSamples1 = 0, meanSamples2 = 0;
-                for (double samples : first.batchSamples) meanSamples1 += samples / double(first.batchSamples.size());
-                for (double samples : second.batchSamples) meanSamples2 += samples / double(second.batchSamples.size());
-                const double v1 = predictedNoise(first, noiseShare * meanSamples1 / meanSamples),
-                             v2 = predictedNoise(second, noiseShare * meanSamples2 / meanSamples);
+                const double v1 = predictedNoise(first, noiseShare * meanBatchSamples(first) / meanSamples),
+                             v2 = predictedNoise(second, noiseShare * meanBatchSamples(second) / meanSamples);
                 p.predictedSampleNoise = noiseAtTheRendersPhotons(v1, photonsShort.first, v2, photonsShort.second);
             }
             double mse = p.predictedBias + p.predictedCacheNoise + p.predictedSampleNoise;
