@@ -11,10 +11,9 @@
 //   carries that radiance, estimated by a path traced from the surface (all lights; the
 //   dome's photons leave the portal in every direction; a quarter of them, weighted by 4, so
 //   that the paths cost the photon map 20% of its samples, not 40%), and the others carry
-//   nothing. Karma
-//   carries nothing there: on Sibenik with portals the progressive photon map then read 0.948 of
-//   its image without portals, where its light comes in off the aisles' roofs and the window
-//   reveals. That still assumes the portals cover every opening the light comes through (light
+//   nothing. Karma carries nothing there: on Sibenik with portals the progressive photon map
+//   then read 0.948 of its image without portals, where light comes in off the aisles' roofs
+//   and the window reveals. That still assumes the portals cover every opening the light comes through (light
 //   through others is not emitted as photons), as in Karma.
 // A portal is a rectangle: corner + s e1 + t e2, s, t in [0, 1); `travel` is its unit -Z.
 #pragma once
