@@ -97,9 +97,13 @@ bool makePortal(const Scene& scene, const LightDesc& d, Portal& portal) {
         escapesInward += !scene.occluded(c + dir * lift, dir, kInf, stats);
         escapesOutward += !scene.occluded(c - dir * lift, -dir, kInf, stats);
     }
-    if (escapesOutward < escapesInward) {
+    // Clearly: where both sides are walled in (a window onto a narrow courtyard) one stray ray
+    // would decide, so the portal as authored is kept unless a few more rays escape inside
+    // (Sibenik's Portal_19 was left out on 1 ray against 0 of 32; its glass is 5 cm inside it).
+    if (escapesInward > escapesOutward + kProbes / 8) {
         scene.warn("portal " + d.name + ": faces the wrong way (its -Z side, where the light would go, sees more sky than its "
-             "+Z side); ignored");
+             "+Z side: " + std::to_string(escapesInward) + " and " + std::to_string(escapesOutward) + " of " +
+             std::to_string(kProbes) + " rays); ignored");
         return false;
     }
     return true;

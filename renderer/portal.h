@@ -40,8 +40,9 @@ struct Portal {
 class Scene;
 struct LightDesc;
 // A portal from a UsdLux PortalLight's descriptor, checked against the committed geometry:
-// finite, of positive size, and its +Z side (where the light comes from) seeing more sky than its
-// -Z side. Otherwise warns on the scene, naming the prim, and returns false.
+// finite, of positive size, and not clearly facing the wrong way (its -Z side, where the light
+// goes, seeing more sky than its +Z side by a few probe rays). Otherwise warns on the scene,
+// naming the prim, and returns false.
 bool makePortal(const Scene& scene, const LightDesc& desc, Portal& portal);
 
 class PortalSet {

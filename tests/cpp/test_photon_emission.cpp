@@ -242,6 +242,33 @@ TEST(PhotonEmission, GuideStartsPhotonsWhereTheyReachTheRender) {
     EXPECT_NEAR(photon, expected, 0.02 * expected);
 }
 
+// A portal walled in on both sides: below it a closed room with a small hole in its floor, right
+// under the portal, that 2-3 of the 32 probe rays leave by; above it a closed box. The probe
+// cannot tell its sides apart, so the portal as authored is kept (it was left out as facing the
+// wrong way on one such ray: Sibenik's Portal_19).
+TEST(PhotonEmission, APortalWalledInOnBothSidesIsKeptAsAuthored) {
+    Scene scene;
+    int grey = scene.addMaterial(lambert(Color(0.5f)));
+    const float h = 0.25f, top = 1.01f;  // the hole's half-width; the portal's height
+    addQuad(scene, "/FloorA", {-1, 0, -1}, {-1, 0, 1}, {-h, 0, 1}, {-h, 0, -1}, grey);
+    addQuad(scene, "/FloorB", {h, 0, -1}, {h, 0, 1}, {1, 0, 1}, {1, 0, -1}, grey);
+    addQuad(scene, "/FloorC", {-h, 0, -1}, {-h, 0, -h}, {h, 0, -h}, {h, 0, -1}, grey);
+    addQuad(scene, "/FloorD", {-h, 0, h}, {-h, 0, 1}, {h, 0, 1}, {h, 0, h}, grey);
+    for (float y0 : {0.0f, top}) {
+        float y1 = y0 == 0 ? top : 2.0f;
+        addQuad(scene, "/WallA", {-1, y0, -1}, {1, y0, -1}, {1, y1, -1}, {-1, y1, -1}, grey);
+        addQuad(scene, "/WallB", {-1, y0, 1}, {1, y0, 1}, {1, y1, 1}, {-1, y1, 1}, grey);
+        addQuad(scene, "/WallC", {-1, y0, -1}, {-1, y0, 1}, {-1, y1, 1}, {-1, y1, -1}, grey);
+        addQuad(scene, "/WallD", {1, y0, -1}, {1, y0, 1}, {1, y1, 1}, {1, y1, -1}, grey);
+    }
+    addQuad(scene, "/Lid", {-1, 2, -1}, {-1, 2, 1}, {1, 2, 1}, {1, 2, -1}, grey);
+    addSunAndSky(scene);
+    scene.addLight(portalOverTheBox());
+    scene.commit();
+    EXPECT_EQ(scene.stats().portals, 1u);
+    for (const std::string& w : scene.warnings()) EXPECT_EQ(w.find("wrong way"), std::string::npos) << w;
+}
+
 // Bad portals warn, naming the prim, and are left out (the scene renders as without them).
 TEST(PhotonEmission, BadPortalsWarnAndAreIgnored) {
     auto build = [](LightDesc portal, bool dome) {
