@@ -4,8 +4,8 @@ Scenes: the glazed-window room with its sun and sky (all light through a 6 mm pa
 under the sky alone, Sponza under sun and sky, Sibenik under sun and sky through its window glass,
 and the same with portal lights over its windows (sibenik-portals).
 For each: a reference (the path tracer, unbounded depth, for --reference-seconds; or, where a sun is
-seen only through glass and no path tracer converges, --glass-reference progressivePhotonMap, the
-consistent photon technique, checked against the path tracer on the sky-only room), then every
+seen only through glass and no path tracer converges, the path tracer without the sun plus the
+progressive photon map of the sun alone, bench/references.py, or --glass-reference's integrator), then every
 technique at its defaults with a --seconds time limit. Printed per scene and technique: the seconds
 actually spent, mean / reference, RMSE on sRGB8, mean FLIP, the local-outlier share (8x8 blocks
 beyond 4 sigma of the path tracer's block noise at the same time; gi.metrics.local_outlier_share)
@@ -28,6 +28,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+import references
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -77,7 +79,8 @@ def main():
     parser.add_argument("--resolution", type=int, nargs=2, default=(128, 96))
     parser.add_argument("--seconds", type=float, default=5.0)
     parser.add_argument("--reference-seconds", type=float, default=120.0)
-    parser.add_argument("--glass-reference", default="progressivePhotonMap")
+    parser.add_argument("--glass-reference", default="per-light",
+                        help="per-light (bench/references.py) or an integrator's name")
     parser.add_argument("--integrators", default=",".join(TECHNIQUES))
     args = parser.parse_args()
     resolution = tuple(args.resolution)
@@ -85,14 +88,21 @@ def main():
     for name in args.scenes.split(","):
         path, glass = scene_path(name, folder.name)
         loaded = load_stage(str(path))
-        ref_integrator = args.glass_reference if glass else "path"
-        reference, ref_stats, ref_wall = render(loaded, ref_integrator, resolution, 1 << 24, args.reference_seconds,
-                                                seed=1000)
+        if glass and args.glass_reference == "per-light":
+            def render_image(stage_loaded, integrator, seconds, seed):
+                image, stats, wall = render(stage_loaded, integrator, resolution, 1 << 24, seconds, seed=seed)
+                return image, int(stats["spp"]), wall
+            reference, described = references.reference(path, args.reference_seconds, render_image)
+        else:
+            ref_integrator = args.glass_reference if glass else "path"
+            reference, ref_stats, ref_wall = render(loaded, ref_integrator, resolution, 1 << 24, args.reference_seconds,
+                                                    seed=1000)
+            described = f"{ref_integrator} {int(ref_stats['spp'])} spp in {ref_wall:.0f} s"
         path_a, _, _ = render(loaded, "path", resolution, 1 << 24, args.seconds, seed=11)
         path_b, _, _ = render(loaded, "path", resolution, 1 << 24, args.seconds, seed=12)
         sigma = metrics.block_noise(path_a, path_b)
-        print(f"\n## {name} ({path.name}), {resolution[0]}x{resolution[1]}: reference {ref_integrator} "
-              f"{int(ref_stats['spp'])} spp in {ref_wall:.0f} s, mean {reference.mean():.5f}")
+        print(f"\n## {name} ({path.name}), {resolution[0]}x{resolution[1]}: reference {described}, "
+              f"mean {reference.mean():.5f}")
         print("| technique | seconds | spp | mean / ref | RMSE sRGB8 | FLIP | outlier blocks | records / photons |")
         print("|---|---|---|---|---|---|---|---|")
         for integrator in (args.integrators.split(";") if ";" in args.integrators else args.integrators.split(",")):
