@@ -11,29 +11,10 @@ its own bias.
 
 Light transport is linear in the lights, so the reference is the sum of two renders of the same
 stage: the path tracer with every distant light (sun) deactivated, and the progressive photon map
-(consistent: its radii shrink) with every other light deactivated. Each takes half the time.
+(consistent: its radii shrink) with every other light deactivated. Each takes half the time. The
+split is gi.reference's (`gi reference --sun-by-photons`); here each half is one timed render.
 """
 from pathlib import Path
-
-import numpy as np
-
-SUN = "DistantLight"
-
-
-def _stage_with(path: Path, keep_suns: bool):
-    """The stage of `path` with, in its session layer, either its suns or its other lights off."""
-    from pxr import Usd, UsdLux
-    stage = Usd.Stage.Open(str(path))
-    stage.SetEditTarget(stage.GetSessionLayer())
-    suns = 0
-    for prim in stage.Traverse():
-        if not prim.HasAPI(UsdLux.LightAPI) or prim.GetTypeName() == "PortalLight":
-            continue
-        is_sun = prim.GetTypeName() == SUN
-        suns += is_sun
-        if is_sun != keep_suns:
-            prim.SetActive(False)
-    return stage, suns
 
 
 def reference(path, seconds, render_image, seed=1000):
@@ -41,14 +22,14 @@ def reference(path, seconds, render_image, seed=1000):
     distant light, else the path tracer without its suns plus the progressive photon map of its
     suns alone. render_image(loaded, integrator, seconds, seed) -> (image, spp, wall seconds)."""
     from gi.loader import load_stage
+    from gi.reference import SUN_INTEGRATOR, stage_with_suns
     path = Path(path)
-    stage, suns = _stage_with(path, keep_suns=False)
+    stage, suns = stage_with_suns(path, keep=False)
     if suns == 0:
         image, spp, wall = render_image(load_stage(str(path)), "path", seconds, seed)
         return image, f"path {spp} spp in {wall:.0f} s"
     others, others_spp, others_wall = render_image(load_stage(str(path), stage=stage), "path", seconds / 2, seed)
-    sun_stage, _ = _stage_with(path, keep_suns=True)
-    sun, sun_spp, sun_wall = render_image(load_stage(str(path), stage=sun_stage), "progressivePhotonMap", seconds / 2,
-                                          seed)
-    return others + sun, (f"path without the sun {others_spp} spp in {others_wall:.0f} s + progressivePhotonMap of "
+    sun_stage, _ = stage_with_suns(path, keep=True)
+    sun, sun_spp, sun_wall = render_image(load_stage(str(path), stage=sun_stage), SUN_INTEGRATOR, seconds / 2, seed)
+    return others + sun, (f"path without the sun {others_spp} spp in {others_wall:.0f} s + {SUN_INTEGRATOR} of "
                           f"the sun alone {sun_spp} spp in {sun_wall:.0f} s")

@@ -173,6 +173,11 @@ def add_reference_parser(commands):
                            help="time limit (default 3600; 0 = none)")
     reference.add_argument("--target-error", type=float, default=0.002, metavar="E",
                            help="relative standard error of the image mean to reach (default 0.002)")
+    reference.add_argument("--sun-by-photons", action="store_true",
+                           help="where a sun is seen only through glass: the path tracer renders every light "
+                                "but the distant lights (half of --max-seconds), the progressive photon map the "
+                                "distant lights alone for as long, and the reference is their sum (the path "
+                                "tracer finds a sun behind glass too rarely to converge)")
     add_common_render_options(reference)
 
 

@@ -9,6 +9,14 @@ Stopping rule: batch k's image mean m_k has variance s^2 / n_k (n_k its spp), so
 from the batches' weighted spread, s^2 = sum n_k (m_k - M)^2 / (K - 1), and the standard error of
 the combined mean M = sum n_k m_k / N is sqrt(s^2 / N). Rendering stops once SE / M falls below the
 target (after at least MIN_BATCHES batches) or when the time limit passes.
+
+A sun seen only through glass (window panes) the path tracer finds only when a BSDF-sampled ray,
+refracted by the glass, reaches its small disc: a heavy-tailed estimate that reads far below its
+mean for hours while its batches agree (Sibenik: half the sun's light after 600 s), so the spread
+above does not show it. With sun_by_photons, light transport's linearity in the lights splits the
+reference: the batches render the stage with its distant lights deactivated, and the progressive
+photon map (consistent: its radii shrink) renders those lights alone for as long again; the image
+is their sum (README, "A reference per light").
 """
 from __future__ import annotations
 
@@ -115,6 +123,26 @@ def batch_seeds(seed):
 
 # -- rendering -----------------------------------------------------------------------------------
 
+SUN_INTEGRATOR = "progressivePhotonMap"
+
+
+def stage_with_suns(scene_path, keep):
+    """(the stage of scene_path with either only its distant lights (keep=True) or everything but
+    them active, edited in its session layer; how many distant lights it has)."""
+    from pxr import UsdLux
+    from .loader import open_stage
+    stage = open_stage(Path(scene_path), False)
+    stage.SetEditTarget(stage.GetSessionLayer())
+    suns = 0
+    for prim in stage.Traverse():
+        if not prim.HasAPI(UsdLux.LightAPI) or prim.IsA(UsdLux.PortalLight):
+            continue
+        is_sun = prim.IsA(UsdLux.DistantLight)
+        suns += is_sun
+        if is_sun != keep:
+            prim.SetActive(False)
+    return stage, suns
+
 @dataclass
 class Reference:
     color: np.ndarray           # (H, W, 3) linear RGB
@@ -127,6 +155,7 @@ class Reference:
     stopped_by: str             # 'target' | 'time'
     camera_path: str
     non_finite_samples: int     # samples the renderer replaced (NaN, Inf, negative), all batches
+    sun: str = ""               # with sun_by_photons: how the distant lights' part was rendered
 
 
 class ReferenceProgress:
@@ -177,11 +206,16 @@ def stop_reason(accumulator, target_error, progress):
 
 
 def render_reference(scene_path, max_seconds=3600.0, target_error=0.002, resolution=None, seed=0,
-                     threads=0, camera=None, show_progress=False) -> Reference:
+                     threads=0, camera=None, show_progress=False, sun_by_photons=False) -> Reference:
     """Renders batches until the image mean's relative standard error is under target_error or
-    max_seconds (0 = no limit) have passed."""
+    max_seconds (0 = no limit) have passed. With sun_by_photons (and a distant light), the batches
+    leave the distant lights out, get half of max_seconds, and the photon map renders those lights
+    alone for as long as the batches took (module docstring)."""
     from .loader import load_stage
-    loaded = load_stage(scene_path, camera=camera)
+    stage, suns = stage_with_suns(scene_path, keep=False) if sun_by_photons else (None, 0)
+    loaded = load_stage(scene_path, camera=camera, stage=stage if suns else None)
+    if suns and max_seconds > 0:
+        max_seconds /= 2
     accumulator = BatchAccumulator()
     progress = ReferenceProgress(show_progress, max_seconds, target_error)
     batch_spp, reason, non_finite = FIRST_BATCH_SPP, None, 0
@@ -201,9 +235,22 @@ def render_reference(scene_path, max_seconds=3600.0, target_error=0.002, resolut
             batch_spp = min(batch_spp * 2, MAX_BATCH_SPP)
     finally:
         progress.close()
-    return Reference(accumulator.image(), accumulator.samples, accumulator.batches, progress.elapsed(),
+    image, seconds, sun = accumulator.image(), progress.elapsed(), ""
+    if suns:
+        from .render import render_settings, require_core
+        sun_loaded = load_stage(scene_path, camera=camera, stage=stage_with_suns(scene_path, keep=True)[0])
+        settings = render_settings(sun_loaded, SUN_INTEGRATOR, {}, 1 << 24, seed, threads, max(seconds, 1.0),
+                                   resolution, "box")
+        start = time.perf_counter()
+        result = require_core().render(sun_loaded.scene, settings)
+        sun_seconds = time.perf_counter() - start
+        non_finite += int(result.stats["non_finite_samples"])
+        image = image + np.asarray(result.color, dtype=np.float32)[..., :3]
+        seconds += sun_seconds
+        sun = f"{SUN_INTEGRATOR} of the {suns} distant light(s) alone, {result.spp} spp in {sun_seconds:.1f} s"
+    return Reference(image, accumulator.samples, accumulator.batches, seconds,
                      accumulator.relative_standard_error(), accumulator.pixel_relative_standard_error(),
-                     accumulator.srgb8_standard_error(), reason, loaded.camera_path, non_finite)
+                     accumulator.srgb8_standard_error(), reason, loaded.camera_path, non_finite, sun)
 
 
 # -- the command ---------------------------------------------------------------------------------
@@ -218,17 +265,18 @@ def reference_metadata(scene, reference, seed, target_error, max_seconds):
             "gi:srgb8_standard_error": f"{reference.srgb8_standard_error:.6g}",
             "gi:target_error": f"{target_error:g}", "gi:max_seconds": f"{max_seconds:g}",
             "gi:stopped_by": reference.stopped_by, "gi:non_finite_samples": str(reference.non_finite_samples),
+            **({"gi:sun": reference.sun} if reference.sun else {}),
             "gi:date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
 
 
 def make_reference(scene, output, max_seconds, target_error, resolution=None, seed=0, threads=0, camera=None,
-                   show_progress=False):
+                   show_progress=False, sun_by_photons=False):
     """Renders a reference (render_reference) and writes it with its metadata to `output`; returns it."""
     from .render import require_core
     if target_error <= 0:
         raise ValueError(f"--target-error must be positive, got {target_error}")
     reference = render_reference(scene, max_seconds, target_error, tuple(resolution) if resolution else None,
-                                 seed, threads, camera, show_progress)
+                                 seed, threads, camera, show_progress, sun_by_photons)
     output = Path(output)
     output.parent.mkdir(parents=True, exist_ok=True)
     require_core().write_rgb_exr(str(output), reference.color,
@@ -238,7 +286,8 @@ def make_reference(scene, output, max_seconds, target_error, resolution=None, se
 
 def cmd_reference(args):
     reference = make_reference(args.scene, args.output, args.max_seconds, args.target_error, args.resolution,
-                               args.seed, args.threads, args.camera, show_progress=sys.stderr.isatty())
+                               args.seed, args.threads, args.camera, show_progress=sys.stderr.isatty(),
+                               sun_by_photons=args.sun_by_photons)
     print(f"{args.scene}: {summary(reference, args.target_error)} -> {args.output}")
     return 0
 
@@ -250,4 +299,5 @@ def summary(reference, target_error):
     return (f"{width}x{height} reference, {reference.spp} spp in {reference.batches} batches, "
             f"{reference.seconds:.2f} s; relative standard error of the mean "
             f"{reference.relative_standard_error:.4g} (target {target_error:g}, {outcome}), "
-            f"its noise {reference.srgb8_standard_error:.2f} sRGB8 codes")
+            f"its noise {reference.srgb8_standard_error:.2f} sRGB8 codes"
+            + (f"; the sun by {reference.sun}" if reference.sun else ""))

@@ -193,6 +193,69 @@ def test_reference_stops_once_the_target_is_reached(cornell, tmp_path):
     assert float(meta["gi:relative_standard_error"]) <= 0.5 and float(meta["gi:seconds"]) < 30
 
 
+OPEN_FLOOR = """#usda 1.0
+(
+    defaultPrim = "World"
+    upAxis = "Y"
+)
+def Xform "World"
+{
+    def Mesh "Floor"
+    {
+        int[] faceVertexCounts = [4]
+        int[] faceVertexIndices = [0, 1, 2, 3]
+        point3f[] points = [(-4, 0, -4), (-4, 0, 4), (4, 0, 4), (4, 0, -4)]
+        uniform token subdivisionScheme = "none"
+    }
+    def Mesh "Wall"
+    {
+        int[] faceVertexCounts = [4]
+        int[] faceVertexIndices = [0, 1, 2, 3]
+        point3f[] points = [(-4, 0, -1), (4, 0, -1), (4, 2, -1), (-4, 2, -1)]
+        uniform token subdivisionScheme = "none"
+    }
+    def DistantLight "Sun"
+    {
+        float inputs:angle = 0.53
+        float inputs:intensity = 2
+        bool inputs:normalize = 1
+        float3 xformOp:rotateXYZ = (-50, 20, 0)
+        uniform token[] xformOpOrder = ["xformOp:rotateXYZ"]
+    }
+    def DomeLight "Sky"
+    {
+        color3f inputs:color = (0.5, 0.6, 0.9)
+    }
+    def Camera "Camera"
+    {
+        float2 clippingRange = (0.01, 100)
+        float3 xformOp:rotateXYZ = (-35, 0, 0)
+        double3 xformOp:translate = (0, 2.5, 3)
+        uniform token[] xformOpOrder = ["xformOp:translate", "xformOp:rotateXYZ"]
+    }
+}
+"""
+
+
+def test_reference_with_the_sun_by_photons_is_the_sum_of_its_lights(tmp_path):
+    """--sun-by-photons: the path tracer without the distant light plus the photon map of it alone.
+    With nothing between the sun and the floor both halves converge, so the sum must be the plain
+    path-traced reference, and the sky half alone must be darker by the sun's share."""
+    scene = tmp_path / "open_floor.usda"
+    scene.write_text(OPEN_FLOOR)
+    plain, split = tmp_path / "plain.exr", tmp_path / "split.exr"
+    common = ["--resolution", 24, 18, "--target-error", 1e-6, "--camera", "/World/Camera"]
+    run_gi("reference", scene, "-o", plain, "--max-seconds", 3, *common)
+    proc = run_gi("reference", scene, "-o", split, "--max-seconds", 6, "--sun-by-photons", *common)
+    a, _ = read_meta(plain)
+    b, meta = read_meta(split)
+    assert meta["gi:sun"].startswith("progressivePhotonMap of the 1 distant light(s) alone") and "the sun by" in proc.stdout
+    assert np.isfinite(b).all() and abs(b.mean() / a.mean() - 1) < 0.01
+    from gi.reference import stage_with_suns
+    stage, suns = stage_with_suns(scene, keep=False)
+    assert suns == 1 and not stage.GetPrimAtPath("/World/Sun").IsActive() and stage.GetPrimAtPath("/World/Sky").IsActive()
+
+
 # -- the reference's statistics ------------------------------------------------------------------
 
 def test_weighted_standard_error_of_two_batches():
