@@ -143,6 +143,7 @@ def stage_with_suns(scene_path, keep):
             prim.SetActive(False)
     return stage, suns
 
+
 @dataclass
 class Reference:
     color: np.ndarray           # (H, W, 3) linear RGB
