@@ -89,15 +89,11 @@ def main():
     for name in args.scenes.split(","):
         path, glass = SCENES[name]
         loaded = load_stage(str(path))
-        if glass and args.glass_reference == "per-light":
-            def render_image(loaded, integrator, seconds, seed):
-                result, wall = render(loaded, integrator, resolution, seconds, seed=seed)
-                return np.asarray(result.color), result.spp, wall
-            reference, described = references.reference(path, args.reference_seconds, render_image)
-        else:
-            ref_integrator = args.glass_reference if glass else "path"
-            ref, ref_wall = render(loaded, ref_integrator, resolution, args.reference_seconds, seed=1000)
-            reference, described = np.asarray(ref.color), f"{ref_integrator} {ref.spp} spp in {ref_wall:.0f} s"
+        def render_image(stage_loaded, integrator, seconds, seed):
+            result, wall = render(stage_loaded, integrator, resolution, seconds, seed=seed)
+            return np.asarray(result.color), result.spp, wall
+        reference, described = references.reference(path, glass, args.glass_reference, args.reference_seconds,
+                                                    render_image)
         for budget in [float(b) for b in args.budgets.split(",")]:
             print(f"\n## {name} ({path.name}), {resolution[0]}x{resolution[1]}, T = {budget:g} s: reference "
                   f"{described}")

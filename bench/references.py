@@ -17,17 +17,20 @@ split is gi.reference's (`gi reference --sun-by-photons`); here each half is one
 from pathlib import Path
 
 
-def reference(path, seconds, render_image, seed=1000):
-    """(linear image, description) of the stage at `path`: the path tracer's alone where it has no
-    distant light, else the path tracer without its suns plus the progressive photon map of its
-    suns alone. render_image(loaded, integrator, seconds, seed) -> (image, spp, wall seconds)."""
+def reference(path, glass, glass_reference, seconds, render_image, seed=1000):
+    """(linear image, description) of the stage at `path`: the path tracer's, unless its sun is
+    seen only through glass (`glass`): then, with `glass_reference` "per-light" and a distant
+    light, the path tracer without its suns plus the progressive photon map of its suns alone, or
+    else `glass_reference`'s integrator alone.
+    render_image(loaded, integrator, seconds, seed) -> (image, spp, wall seconds)."""
     from gi.loader import load_stage
     from gi.reference import SUN_INTEGRATOR, stage_with_suns
     path = Path(path)
-    stage, suns = stage_with_suns(path, keep=False)
-    if suns == 0:
-        image, spp, wall = render_image(load_stage(str(path)), "path", seconds, seed)
-        return image, f"path {spp} spp in {wall:.0f} s"
+    stage, suns = stage_with_suns(path, keep=False) if glass and glass_reference == "per-light" else (None, 0)
+    if not suns:
+        integrator = glass_reference if glass and glass_reference != "per-light" else "path"
+        image, spp, wall = render_image(load_stage(str(path)), integrator, seconds, seed)
+        return image, f"{integrator} {spp} spp in {wall:.0f} s"
     others, others_spp, others_wall = render_image(load_stage(str(path), stage=stage), "path", seconds / 2, seed)
     sun_stage, _ = stage_with_suns(path, keep=True)
     sun, sun_spp, sun_wall = render_image(load_stage(str(path), stage=sun_stage), SUN_INTEGRATOR, seconds / 2, seed)

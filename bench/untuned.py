@@ -88,16 +88,11 @@ def main():
     for name in args.scenes.split(","):
         path, glass = scene_path(name, folder.name)
         loaded = load_stage(str(path))
-        if glass and args.glass_reference == "per-light":
-            def render_image(stage_loaded, integrator, seconds, seed):
-                image, stats, wall = render(stage_loaded, integrator, resolution, 1 << 24, seconds, seed=seed)
-                return image, int(stats["spp"]), wall
-            reference, described = references.reference(path, args.reference_seconds, render_image)
-        else:
-            ref_integrator = args.glass_reference if glass else "path"
-            reference, ref_stats, ref_wall = render(loaded, ref_integrator, resolution, 1 << 24, args.reference_seconds,
-                                                    seed=1000)
-            described = f"{ref_integrator} {int(ref_stats['spp'])} spp in {ref_wall:.0f} s"
+        def render_image(stage_loaded, integrator, seconds, seed):
+            image, stats, wall = render(stage_loaded, integrator, resolution, 1 << 24, seconds, seed=seed)
+            return image, int(stats["spp"]), wall
+        reference, described = references.reference(path, glass, args.glass_reference, args.reference_seconds,
+                                                    render_image)
         path_a, _, _ = render(loaded, "path", resolution, 1 << 24, args.seconds, seed=11)
         path_b, _, _ = render(loaded, "path", resolution, 1 << 24, args.seconds, seed=12)
         sigma = metrics.block_noise(path_a, path_b)

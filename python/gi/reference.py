@@ -214,7 +214,7 @@ def render_reference(scene_path, max_seconds=3600.0, target_error=0.002, resolut
     alone for as long as the batches took (module docstring)."""
     from .loader import load_stage
     stage, suns = stage_with_suns(scene_path, keep=False) if sun_by_photons else (None, 0)
-    loaded = load_stage(scene_path, camera=camera, stage=stage if suns else None)
+    loaded = load_stage(scene_path, camera=camera, stage=stage)
     if suns and max_seconds > 0:
         max_seconds /= 2
     accumulator = BatchAccumulator()
