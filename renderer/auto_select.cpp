@@ -546,7 +546,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             // (40,000 photons a pass, 64 samples) 10.5, 4.6 and 0.64 codes squared at 4, 2 and
             // 0.92 pixels, a power of 1.9 over the whole range. Taken as r^2: the render's blur
             // is the pilot's times the ratio of the pixel counts. A bias that is no blur (a map
-            // 3.7% dark, its portal photons missing light: README, "Correction") is read as one
+            // 3.7% dark, its portal photons missing light: docs/auto.md, "Correction") is read as one
             // too, and predicted to shrink: 0.24-0.27 codes squared for about 1.3 reached.
             if (&pilot == progressive && !pathMisses) p.bias = progressiveBlur * std::min(1.0, pilotPixels / pixels);
             // The final render's time per pixel against one batch's: its preprocessing, as the

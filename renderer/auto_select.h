@@ -15,7 +15,7 @@
 // points), so their mean had less noise than their spread said, and what bias there was hid under
 // it (Sibenik with portals: the photon cache's single-cache pilots, two or three batches of one
 // sample, measured 46-66 codes squared from R where their spread said 75-96 of noise, so no bias,
-// and predicted 0.5-1.0 codes for 1.8 reached; bench runs in README). A technique with a cache
+// and predicted 0.5-1.0 codes for 1.8 reached; bench runs in docs/auto.md). A technique with a cache
 // (irradiance records, photon maps) preprocesses twice, with two seeds, and renders half its
 // batches from each: the two caches' difference is the cache's own noise, which shrinks in the
 // render (records gain paths with the camera's samples, photon maps have the render's photons);
@@ -165,7 +165,7 @@ struct AutoPrediction {
     // b2's standard error, for a technique that keeps its bias: the jackknife over its pilot's
     // batches (pairs of batches with two caches); 0 where not known (fewer than three). Logged, not
     // used in the choice: taken at b2 + z se, the choice lost more at 10 s than it gained at 60 s
-    // (README).
+    // (docs/auto.md).
     double biasError = 0;
     double predictedRmse = 0;     // sqrt of the predicted MSE at the budget, sRGB codes
     // The predicted MSE's parts at the budget (sRGB codes squared; they sum to predictedRmse^2):

@@ -175,7 +175,7 @@ public:
     RTCDevice embreeDevice() const;
     // Up to kDirectSpheres static spheres of the top level are not in embreeScene(): they are
     // tested one by one beside it, since Embree's call of a user geometry cost the Cornell box's
-    // rays more than the test itself (its path tracer took 14% less time so, README); more go into
+    // rays more than the test itself (its path tracer took 14% less time so, docs/performance.md); more go into
     // it. Whoever casts rays through embreeScene() must test them too: the nearest crossing in
     // (tMin, *tMax) lowers *tMax to it and returns the sphere's shape; -1 if none.
     static constexpr size_t kDirectSpheres = 4;

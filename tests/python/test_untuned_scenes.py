@@ -7,7 +7,7 @@ tracer at the same samples per pixel.
 The test renders the room under the sky alone: its 0.53-degree sun, seen from the room only
 through the glass, is reached by a path tracer only when a BSDF-sampled ray happens to hit it
 (about 1 in 10^5 per bounce), so no path-traced reference of the sunlit room converges in a
-test's time, nor in hours (see README, untuned scenes)."""
+test's time, nor in hours (see README, "A reference per light")."""
 import numpy as np
 import pytest
 
