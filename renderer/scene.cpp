@@ -600,6 +600,12 @@ void Scene::buildLights() {
     for (const auto& light : lights_) lights.push_back(light.get());
     lightSampler_ = LightSampler(lights, power);
     stats_.lights = lights_.size();
+    // A scene that emits nothing renders black: say so, or the user is left to guess (an OBJ whose
+    // light material is missing from its .mtl; a stage whose lights are deactivated).
+    if (lights_.empty() && !std::any_of(shapes_.begin(), shapes_.end(), [&](const Shape& s) {
+            return materials_[size_t(s.material)]->isEmissive();
+        }))
+        warn("no lights and no emissive surfaces: every image of this scene is black");
 }
 
 }  // namespace gi

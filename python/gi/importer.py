@@ -347,6 +347,9 @@ def import_obj(auth, source, root):
                          uvs, m["uv_indices"] if uvs is not None else None, UsdGeom.Tokens.faceVarying)
         if material is not None:
             bind(mesh, material)
+        elif materials:  # the OBJ has a material library, but not this mesh's material
+            auth.warn(f"mesh '{mesh.GetPath().name}' has no material of the .mtl (its usemtl names one the "
+                      f"library lacks): it renders with the default grey material, and emits no light")
         auth.report.meshes += 1
         auth.report.faces += len(counts)
         auth.report.triangles += int(np.sum(np.maximum(counts - 2, 0)))

@@ -170,7 +170,7 @@ def cmd_render(args, flags, parser):
                 for message in frame.loaded.scene.warnings():
                     if message not in warned:
                         warned.add(message)
-                        warn(message)
+                        warn(f"{sequence.path}: {message}")
                 if result.auto_summary:
                     print(f"gi: {result.auto_summary}", file=sys.stderr)
                 if args.integrator == "auto":

@@ -245,3 +245,17 @@ TEST(Scene, SphereFromInsideAndGrazing) {
     EXPECT_FALSE(s.occluded(Vec3(0, 2, 0), Vec3(0, -1, 0), 1.4f, st));
     EXPECT_FALSE(s.occluded(Vec3(0.5001f, 2, 0), Vec3(0, -1, 0), 4, st));
 }
+
+TEST(Scene, ASceneThatEmitsNothingSaysItRendersBlack) {
+    auto build = [](bool light, bool emissive) {
+        auto s = std::make_unique<Scene>();
+        int m = s->addMaterial(lambert(Color(0.5f), emissive ? Color(1.0f) : Color(0.0f)));
+        addQuad(*s, "/Floor", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, m);
+        if (light) s->addLight(sphereLight("/Lamp", {0, 1, 0}, 0.1f, 10));
+        s->commit();
+        return s;
+    };
+    EXPECT_TRUE(anyWarningContains(*build(false, false), "no lights and no emissive surfaces", "black"));
+    EXPECT_FALSE(anyWarningContains(*build(true, false), "no lights", "black"));
+    EXPECT_FALSE(anyWarningContains(*build(false, true), "no lights", "black"));
+}

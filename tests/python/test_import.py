@@ -221,6 +221,24 @@ def test_obj_bad_normals_are_repaired(tmp_path):
     assert not UsdGeom.PrimvarsAPI(tri).GetPrimvar("st")  # no uvs in the source, none written
 
 
+def test_a_material_missing_from_the_mtl_is_named(tmp_path):
+    # McGuire's CornellBox-Glossy-Floor.obj names CornellBox-Glossy.mtl, which has no "light": its
+    # light panel imported grey, and the box rendered black with no word of why.
+    (tmp_path / "box.mtl").write_text("newmtl wall\nKd 0.5 0.5 0.5\n")
+    obj = tmp_path / "box.obj"
+    obj.write_text("mtllib box.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                   "g wall\nusemtl wall\nf 1 2 3\ng light\nusemtl light\nf 1 3 4\n")
+    report = import_file(obj, tmp_path / "box.usda")
+    missing = [w for w in report.warnings if "has no material of the .mtl" in w]
+    assert len(missing) == 1 and "'light'" in missing[0] and "box.obj" in missing[0], report.warnings
+    stage = Usd.Stage.Open(str(tmp_path / "box.usda"))
+    light = next(p for p in stage.Traverse() if p.GetName() == "light")
+    assert not UsdShade.MaterialBindingAPI(light).GetDirectBinding().GetMaterial()
+    # Rendered, the scene says why its image is black, naming the file.
+    proc = run_gi("render", tmp_path / "box.usda", "--spp", 1, "--resolution", 8, 8, "-o", tmp_path / "box.exr")
+    assert f"{tmp_path / 'box.usda'}: no lights and no emissive surfaces" in proc.stderr, proc.stderr
+
+
 def test_bad_input_names_the_file(tmp_path):
     missing = tmp_path / "nothing.obj"
     with pytest.raises(ImportError_, match=re.escape(str(missing))):
