@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <set>
 
+#include "texture.h"
 #include "usd_shading.h"
 
 namespace gi {
@@ -120,8 +121,17 @@ private:
                                       [&](const ShaderAsset& a) { return a.authored == file->authored; });
             if (!listed) out->textureFiles.push_back(*file);
             texture->file = file->resolved;
-            if (file->resolved.empty())
-                warn("texture file '" + file->authored + "' (read by " + path + ") was not found; using its fallback");
+            // A UDIM pattern no resolver resolves: UsdImaging's scene index hands it over as authored
+            // (OpenUSD 24.11), which names its tiles only when absolute (the renderer finds them).
+            if (texture->file.empty() && isUdimPath(file->authored) && !file->authored.empty() &&
+                file->authored.front() == '/')
+                texture->file = file->authored;
+            if (texture->file.empty())
+                warn("texture file '" + file->authored + "' (read by " + path + ") was not found" +
+                     (isUdimPath(file->authored) ? " (no tile of this UDIM pattern was found; Hydra's scene "
+                                                   "index in OpenUSD 24.11 finds them by an absolute path only)"
+                                                 : "") +
+                     "; using its fallback");
         } else {
             warn("texture " + path + " has no file; using its fallback");
         }

@@ -288,29 +288,57 @@ int Scene::addLight(const LightDesc& desc) {
     return int(lightDescs_.size()) - 1;
 }
 
+std::shared_ptr<Image> Scene::loadImage(const std::string& file, const std::string& colorSpace, std::string& error,
+                                        bool* first) {
+    std::string key = file + "|" + colorSpace;
+    auto it = imageCache_.find(key);
+    *first = it == imageCache_.end();
+    if (!*first) return it->second;
+    std::shared_ptr<Image> image;
+    bool read = true;
+    if (sharedImages_) image = sharedImages_->get(file, colorSpace, error, &read);
+    else if (!std::filesystem::exists(file)) error = "file not found";
+    else image = Image::load(file, colorSpace, error);
+    if (image && read) stats_.texturesRead++;
+    if (image) {
+        stats_.textureBytes += image->memoryBytes();
+        stats_.textures++;
+    }
+    return imageCache_.emplace(key, image).first->second;
+}
+
 Texture Scene::loadTexture(const TextureDesc& desc, const std::string& materialName, const std::string& input) {
     Texture t;
     t.desc = desc;
-    std::string key = desc.file + "|" + desc.sourceColorSpace;
-    auto it = imageCache_.find(key);
-    if (it == imageCache_.end()) {
-        std::string error;
-        std::shared_ptr<Image> image;
-        bool read = true;
-        if (sharedImages_) image = sharedImages_->get(desc.file, desc.sourceColorSpace, error, &read);
-        else if (!std::filesystem::exists(desc.file)) error = "file not found";
-        else image = Image::load(desc.file, desc.sourceColorSpace, error);
-        if (image && read) stats_.texturesRead++;
-        if (!image)
+    std::string error;
+    if (isUdimPath(desc.file)) {
+        // Tiles that are not there are normal (a UDIM set covers the tiles its mesh uses); one that
+        // is there and cannot be read is a problem.
+        t.udimTiles.resize(kUdimTiles);
+        for (int i = 0; i < kUdimTiles; ++i) {
+            std::string tile = udimTilePath(desc.file, kUdimFirstTile + i);
+            if (!std::filesystem::exists(tile)) continue;
+            std::string tileError;
+            bool first = false;
+            t.udimTiles[size_t(i)] = loadImage(tile, desc.sourceColorSpace, tileError, &first);
+            if (!t.udimTiles[size_t(i)] && first)
+                warn("material " + materialName + ": " + input + " texture " + tile + ": " + tileError +
+                     "; its tile reads the fallback");
+            if (!t.image) t.image = t.udimTiles[size_t(i)];
+        }
+        if (!t.image) {
+            t.udimTiles.clear();
+            if (imageCache_.emplace(desc.file + "|" + desc.sourceColorSpace, nullptr).second)  // once per pattern
+                warn("material " + materialName + ": " + input + " texture " + desc.file +
+                 ": no UDIM tile (1001-1100) found; using the constant value");
+        }
+    } else {
+        bool first = false;
+        t.image = loadImage(desc.file, desc.sourceColorSpace, error, &first);
+        if (!t.image && first)  // once per file, as it is read once
             warn("material " + materialName + ": " + input + " texture " + desc.file + ": " + error +
                  "; using the constant value");
-        it = imageCache_.emplace(key, image).first;
-        if (image) {
-            stats_.textureBytes += image->memoryBytes();
-            stats_.textures++;
-        }
     }
-    t.image = it->second;
     if (t.image) t.prepare();
     return t;
 }

@@ -281,6 +281,10 @@ private:
     // static BVH's. Resolved once per hit, in trace.
     int hitShape(const RTCHit& hit, int* instance) const;
     Texture loadTexture(const TextureDesc& desc, const std::string& materialName, const std::string& input);
+    // One file's image, read once per scene (nullptr with `error` when it cannot be read); *first
+    // says whether this call read it (or tried to).
+    std::shared_ptr<Image> loadImage(const std::string& file, const std::string& colorSpace, std::string& error,
+                                     bool* first);
     int defaultMaterial();
 
     std::shared_ptr<EmbreeDevice> device_;

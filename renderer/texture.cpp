@@ -152,9 +152,31 @@ void Texture::prepare() {
     stScale = std::sqrt(std::fabs(st[0][0] * st[1][1] - st[0][1] * st[1][0]));
 }
 
+bool isUdimPath(const std::string& file) { return file.find(kUdimToken) != std::string::npos; }
+
+std::string udimTilePath(const std::string& pattern, int tile) {
+    std::string path = pattern;
+    for (size_t at = path.find(kUdimToken); at != std::string::npos; at = path.find(kUdimToken, at))
+        path.replace(at, std::string(kUdimToken).size(), std::to_string(tile));
+    return path;
+}
+
 void Texture::evalRaw(Vec2 uv, float out[4], float footprint) const {
     float u = st[0][0] * uv.x + st[0][1] * uv.y + st[0][2];
     float v = st[1][0] * uv.x + st[1][1] * uv.y + st[1][2];
+    if (!udimTiles.empty()) {
+        float column = std::floor(u), row = std::floor(v);
+        const Image* tile = nullptr;
+        if (column >= 0 && column < kUdimColumns && row >= 0 && row < kUdimTiles / kUdimColumns)
+            tile = udimTiles[size_t(row) * kUdimColumns + size_t(column)].get();
+        if (!tile) {  // no tile there: UsdUVTexture's fallback, as for a file that cannot be read
+            for (int c = 0; c < 4; ++c) out[c] = desc.fallback[c];
+            return;
+        }
+        tile->lookup(u - column, v - row, kWrapClamp, kWrapClamp, out, footprint * stScale);
+        for (int c = 0; c < 4; ++c) out[c] = out[c] * desc.scale[c] + desc.bias[c];
+        return;
+    }
     image->lookup(u, v, wrapS, wrapT, out, footprint * stScale);
     for (int c = 0; c < 4; ++c) out[c] = out[c] * desc.scale[c] + desc.bias[c];
 }

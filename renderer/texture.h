@@ -78,9 +78,18 @@ enum WrapMode { kWrapRepeat = 0, kWrapMirror, kWrapClamp, kWrapBlack };
 // false, and repeat, for any other token.
 bool parseWrapMode(const std::string& token, int* mode);
 
+// A file path with a UDIM pattern (tiles 1001-1100: tile 1001 + u + 10 v covers st [u, u+1) x [v, v+1)).
+inline constexpr const char* kUdimToken = "<UDIM>";
+inline constexpr int kUdimFirstTile = 1001, kUdimColumns = 10, kUdimTiles = 100;
+bool isUdimPath(const std::string& file);
+std::string udimTilePath(const std::string& pattern, int tile);  // the pattern with its tile number
+
 // A bound texture: the image plus the descriptor's transforms, evaluated at an st coordinate.
 struct Texture {
-    std::shared_ptr<Image> image;
+    std::shared_ptr<Image> image;  // the image; for UDIM tiles the first one found
+    // A UDIM texture's tiles (kUdimTiles, 1001 first; null where the file has none); empty otherwise.
+    // Each tile is read clamped at its edges, and st outside every tile found reads the fallback.
+    std::vector<std::shared_ptr<Image>> udimTiles;
     TextureDesc desc;
     int wrapS = kWrapRepeat, wrapT = kWrapRepeat;
     int channelIndex = -1;  // -1 = rgb

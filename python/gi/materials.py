@@ -22,19 +22,24 @@ def error_text(error):
 # renderer/shader_network.h); which nodes and inputs mean what, their defaults and the warnings are
 # renderer/preview_surface.h's, the rules hdGi resolves Hydra's networks by.
 
-def asset_of(asset):
+def asset_of(asset, attribute=None):
     """An asset-valued input as gi._core.ShaderAsset: as authored, and the file it resolves to
-    ('' when no file is there)."""
+    ('' when no file is there). A UDIM pattern (tex.<UDIM>.exr), which no resolver resolves, is
+    resolved as UsdImaging resolves it for Hydra: anchored to the layer that authors it, the
+    pattern kept, when one of its tiles is there (UsdShade.UdimUtils)."""
     from ._core import ShaderAsset
+    if attribute is not None and UsdShade.UdimUtils.IsUdimIdentifier(asset.path):
+        layer = next((spec.layer for spec in attribute.GetPropertyStack() if spec.HasDefaultValue()), None)
+        return ShaderAsset(asset.path, UsdShade.UdimUtils.ResolveUdimPath(asset.path, layer) if layer else "")
     resolved = asset.resolvedPath
     return ShaderAsset(asset.path, resolved if resolved and os.path.isfile(resolved) else "")
 
 
-def constant_of(value):
+def constant_of(value, attribute=None):
     """An authored value as gi._core.ShaderNode.set takes it (numbers, 2 to 4 numbers, str, an
     asset); None for a value of another type (the input then reads as unauthored, as in hdGi)."""
     if isinstance(value, Sdf.AssetPath):
-        return asset_of(value)
+        return asset_of(value, attribute)
     if isinstance(value, (bool, int, float, str)):
         return value
     if hasattr(value, "__len__") and 2 <= len(value) <= 4 and all(isinstance(v, (int, float)) for v in value):
@@ -68,7 +73,7 @@ def shader_network(material):
                 upstream = UsdShade.Shader(attribute.GetPrim())
                 node.connect(name, str(upstream.GetPath()), UsdShade.Output(attribute).GetBaseName())
                 pending.append(upstream)
-            elif (value := constant_of(attribute.Get())) is not None:
+            elif (value := constant_of(attribute.Get(), attribute)) is not None:
                 node.set(name, value)
         network.add(path, node)
     return network, str(surface.GetPath())

@@ -6,6 +6,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <filesystem>
+#include <map>
 
 #include "renderer/texture.h"
 #include "scenes.h"
@@ -203,4 +204,55 @@ TEST(ImageCache, RebuiltScenesReadATextureOnceWhileItIsUnchanged) {
     std::filesystem::copy_file(file, missing);
     EXPECT_EQ(texturedScene(missing, images)->stats().texturesRead, 1u);
     std::filesystem::remove(missing);
+}
+
+// A UDIM texture (file.<UDIM>.exr): tile 1001 + u + 10 v covers st [u, u + 1) x [v, v + 1), each
+// tile read clamped at its own edges; where no tile is, the texture reads its fallback.
+TEST(Texture, UdimTilesCoverTheirSquaresOfSt) {
+    const std::string stem = std::to_string(getpid()) + "_gi_udim";
+    const auto dir = std::filesystem::temp_directory_path();
+    std::map<int, Color> tiles = {{1001, Color(1, 0, 0)}, {1002, Color(0, 1, 0)}, {1011, Color(0, 0, 1)}};
+    for (const auto& [tile, colour] : tiles) {
+        // Two texels across: the tile's right edge must not bleed into its neighbour's left one.
+        std::vector<float> texels = {colour.x, colour.y, colour.z, 1, colour.x, colour.y, colour.z, 1};
+        std::string written = writeImage("gi_udim." + std::to_string(tile) + ".exr", 4, texels, OIIO::TypeDesc::FLOAT);
+        std::filesystem::rename(written, dir / (stem + "." + std::to_string(tile) + ".exr"));
+    }
+    std::string pattern = (dir / (stem + ".<UDIM>.exr")).string();
+    EXPECT_TRUE(isUdimPath(pattern));
+    EXPECT_EQ(udimTilePath(pattern, 1002), (dir / (stem + ".1002.exr")).string());
+
+    Scene scene;
+    MaterialDesc m = test::lambert(Color(0.5f));
+    m.emissiveColorTexture.file = pattern;
+    for (int c = 0; c < 4; ++c) m.emissiveColorTexture.fallback[c] = 0.25f;
+    int material = scene.addMaterial(m);
+    test::addQuad(scene, "/Quad", {0, 0, 0}, {1, 0, 0}, {1, 0, -1}, {0, 0, -1}, material);
+    scene.commit();
+    EXPECT_EQ(scene.stats().textures, 3u);
+    const Material& mat = scene.material(material);
+    auto expect = [&](float u, float v, Color want) {
+        Color got = mat.emission(Vec2(u, v));
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 1e-6f) << "st (" << u << ", " << v << ") channel " << c;
+    };
+    expect(0.5f, 0.5f, Color(1, 0, 0));
+    expect(0.99f, 0.5f, Color(1, 0, 0));  // clamped at the tile's edge, not wrapped into 1002
+    expect(1.5f, 0.5f, Color(0, 1, 0));
+    expect(0.5f, 1.5f, Color(0, 0, 1));
+    expect(1.5f, 1.5f, Color(0.25f));   // tile 1012: none
+    expect(-0.5f, 0.5f, Color(0.25f));  // left of every tile
+    expect(10.5f, 0.5f, Color(0.25f));  // an eleventh column is no tile
+
+    // A pattern with no tile at all is a warning naming it, and the constant value.
+    Scene missing;
+    MaterialDesc none = test::lambert(Color(0.5f));
+    none.diffuseColorTexture.file = (dir / (stem + "_none.<UDIM>.exr")).string();
+    missing.addMaterial(none);
+    test::addQuad(missing, "/Quad", {0, 0, 0}, {1, 0, 0}, {1, 0, -1}, {0, 0, -1}, 0);
+    missing.commit();
+    bool warned = false;
+    for (const std::string& w : missing.warnings())
+        warned = warned || (w.find("_none.<UDIM>.exr") != std::string::npos && w.find("no UDIM tile") != std::string::npos);
+    EXPECT_TRUE(warned);
+    for (const auto& [tile, colour] : tiles) std::filesystem::remove(dir / (stem + "." + std::to_string(tile) + ".exr"));
 }

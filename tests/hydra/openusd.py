@@ -31,9 +31,13 @@ def openusd_env():
     return env
 
 
-def run_openusd(args, timeout=900):
-    """Runs an OpenUSD tool or script; returns the completed process (output captured)."""
-    result = subprocess.run(args, env=openusd_env(), capture_output=True, text=True, timeout=timeout)
+def run_openusd(args, timeout=900, scene_index=True):
+    """Runs an OpenUSD tool or script; returns the completed process (output captured).
+    scene_index=False: through UsdImaging's legacy scene delegate instead."""
+    env = openusd_env()
+    if not scene_index:
+        env["USDIMAGINGGL_ENGINE_ENABLE_SCENE_INDEX"] = "0"
+    result = subprocess.run(args, env=env, capture_output=True, text=True, timeout=timeout)
     if result.returncode != 0:
         raise AssertionError(f"{' '.join(map(str, args))} failed ({result.returncode}):\n"
                              f"{result.stdout[-4000:]}\n{result.stderr[-4000:]}")

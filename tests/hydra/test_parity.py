@@ -46,6 +46,29 @@ def test_usdrecord_and_gi_render_agree(tmp_path, stage, complexity, integrator="
     assert np.array_equal(hydra, cli)
 
 
+@pytest.mark.parametrize("scene_index", [True, False], ids=["scene index, absolute path", "legacy, relative path"])
+def test_udim_tiles_agree(tmp_path, scene_index):
+    """texture_udim.usda's tiles (tiles.<UDIM>.exr) in both hosts. UsdImaging's legacy delegate
+    anchors a relative UDIM pattern to its layer, as gi's loader does; its scene index (OpenUSD
+    24.11) hands the pattern over as authored, so there the stage names it by an absolute path."""
+    scene = stage_files.prepare("texture_udim", tmp_path / "stage", absolute_udim=scene_index)
+    session = settings_layer(tmp_path / "session.usda", integrator="path", samples=SPP, seed=SEED)
+    output = tmp_path / "udim-hydra.exr"
+    result = run_openusd(["usdrecord", "--disableGpu", "--renderer", "Gi", "--disableCameraLight",
+                          "--colorCorrectionMode", "disabled", "--imageWidth", str(WIDTH), "--camera", "/World/Camera",
+                          "--sessionLayer", str(session), str(scene), str(output)], scene_index=scene_index)
+    assert not hdgi_errors(result.stdout + result.stderr), result.stderr
+    assert "was not found" not in result.stdout + result.stderr, result.stderr
+    cli = gi_render_scene(tmp_path, scene, "path", SPP, SEED, WIDTH, WIDTH)
+    assert np.array_equal(read_rgb(output), cli)
+    tiles = stage_files.UDIM_TILES["tiles.<UDIM>.exr"]
+    # The quad spans pixels 20-220 (0.01 units each): its quarters' centres, (row, column) -> colour.
+    centres = {(170, 70): tiles[1001], (170, 170): tiles[1002], (70, 70): tiles[1011],
+               (70, 170): stage_files.UDIM_FALLBACK}
+    for (row, column), colour in centres.items():
+        assert np.allclose(cli[row, column], colour), ((row, column), cli[row, column], colour)
+
+
 @pytest.mark.parametrize("stage", ["emissive_instances", "emissive_point_instances"])
 def test_emissive_instances_emit_their_photons_alike(tmp_path, stage):
     """Twelve emissive lamp instances (native, or by a point instancer): the renderer orders

@@ -21,10 +21,15 @@ def quadrants_texture():
 
 
 TEXTURES = {"quadrants.exr": quadrants_texture}
+# UDIM sets: pattern -> {tile: its one colour}; each tile 2 x 2 texels (texture_udim.usda).
+UDIM_TILES = {"tiles.<UDIM>.exr": {1001: RED, 1002: GREEN, 1011: BLUE}}
+UDIM_FALLBACK = (0.5, 0.5, 0.5)
 
 
-def prepare(stage, directory):
-    """tests/parity/<stage>.usda copied into `directory` with the textures it names; its new path."""
+def prepare(stage, directory, absolute_udim=False):
+    """tests/parity/<stage>.usda copied into `directory` with the textures it names; its new path.
+    absolute_udim: its UDIM patterns made absolute paths (Hydra's scene index in OpenUSD 24.11
+    hands a relative one over unanchored)."""
     from gi import _core
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
@@ -35,6 +40,13 @@ def prepare(stage, directory):
     for name, pixels in TEXTURES.items():
         if f"@{name}@" in text:
             _core.write_rgb_exr(str(directory / name), np.ascontiguousarray(pixels()))
+    for pattern, tiles in UDIM_TILES.items():
+        if f"@{pattern}@" in text and absolute_udim:
+            target.write_text(target.read_text().replace(f"@{pattern}@", f"@{(directory / pattern).resolve()}@"))
+        if f"@{pattern}@" in text:
+            for tile, colour in tiles.items():
+                _core.write_rgb_exr(str(directory / pattern.replace("<UDIM>", str(tile))),
+                                    np.full((2, 2, 3), colour, np.float32))
     return target
 
 

@@ -211,6 +211,19 @@ def test_missing_texture_reads_its_fallback(tmp_path):
         assert any(material in w and "no_such_texture.exr" in w for w in loaded.warnings), loaded.warnings
 
 
+def test_udim_tiles_cover_their_quarters(tmp_path):
+    """tiles.<UDIM>.exr: each quarter of the quad shows its tile's colour exactly; the quarter whose
+    tile (1012) is not there reads the texture's fallback. The pattern is resolved against the
+    stage's folder, as UsdImaging resolves it for Hydra."""
+    color = rgb(render(tmp_path, "texture_udim"))
+    tiles = stage_files.UDIM_TILES["tiles.<UDIM>.exr"]
+    quarters = {(-1.0, 0.0, -1.0, 0.0): tiles[1001], (0.0, 1.0, -1.0, 0.0): tiles[1002],
+                (-1.0, 0.0, 0.0, 1.0): tiles[1011], (0.0, 1.0, 0.0, 1.0): stage_files.UDIM_FALLBACK}
+    for (x0, x1, y0, y1), colour in quarters.items():
+        quarter = region(color, x0, x1, y0, y1)
+        assert quarter.size and np.abs(quarter - np.float32(colour)).max() < 1e-6, ((x0, y0), colour)
+
+
 # UsdPreviewSurface's Fresnel reflectance at normal incidence for its default ior 1.5: the fallback
 # material's specular lobe, which the albedo AOV adds to the diffuse colour.
 F0 = ((1.5 - 1) / (1.5 + 1)) ** 2
