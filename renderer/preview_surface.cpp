@@ -123,8 +123,7 @@ private:
             texture->file = file->resolved;
             // A UDIM pattern no resolver resolves: UsdImaging's scene index hands it over as authored
             // (OpenUSD 24.11), which names its tiles only when absolute (the renderer finds them).
-            if (texture->file.empty() && isUdimPath(file->authored) && !file->authored.empty() &&
-                file->authored.front() == '/')
+            if (texture->file.empty() && isUdimPath(file->authored) && file->authored.front() == '/')
                 texture->file = file->authored;
             if (texture->file.empty())
                 warn("texture file '" + file->authored + "' (read by " + path + ") was not found" +

@@ -330,7 +330,7 @@ Texture Scene::loadTexture(const TextureDesc& desc, const std::string& materialN
             t.udimTiles.clear();
             if (imageCache_.emplace(desc.file + "|" + desc.sourceColorSpace, nullptr).second)  // once per pattern
                 warn("material " + materialName + ": " + input + " texture " + desc.file +
-                 ": no UDIM tile (1001-1100) found; using the constant value");
+                     ": no UDIM tile (1001-1100) found; using the constant value");
         }
     } else {
         bool first = false;

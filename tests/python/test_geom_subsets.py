@@ -366,5 +366,6 @@ def test_inspect_counts_mesh_prims_and_triangles_per_subset_material(tmp_path):
     assert report["counts"]["meshes"] == 1 and report["counts"]["triangles"] == 6
     assert report["caustic_surfaces"] == [{"material": "/Looks/Mirror", "kind": "mirror", "triangles": 4,
                                            "spheres": 0}]
-    assert report["warnings"] == []
+    # The subsets cost no warning; the stage, which has no light, warns of that alone.
+    assert report["warnings"] == ["no lights and no emissive surfaces: every image of this scene is black"]
     assert "1 meshes, 6 triangles" in format_report(report)
