@@ -310,7 +310,6 @@ std::shared_ptr<Image> Scene::loadImage(const std::string& file, const std::stri
 Texture Scene::loadTexture(const TextureDesc& desc, const std::string& materialName, const std::string& input) {
     Texture t;
     t.desc = desc;
-    std::string error;
     if (isUdimPath(desc.file)) {
         // Tiles that are not there are normal (a UDIM set covers the tiles its mesh uses); one that
         // is there and cannot be read is a problem.
@@ -333,6 +332,7 @@ Texture Scene::loadTexture(const TextureDesc& desc, const std::string& materialN
                      ": no UDIM tile (1001-1100) found; using the constant value");
         }
     } else {
+        std::string error;
         bool first = false;
         t.image = loadImage(desc.file, desc.sourceColorSpace, error, &first);
         if (!t.image && first)  // once per file, as it is read once

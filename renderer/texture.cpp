@@ -164,20 +164,21 @@ std::string udimTilePath(const std::string& pattern, int tile) {
 void Texture::evalRaw(Vec2 uv, float out[4], float footprint) const {
     float u = st[0][0] * uv.x + st[0][1] * uv.y + st[0][2];
     float v = st[1][0] * uv.x + st[1][1] * uv.y + st[1][2];
-    if (!udimTiles.empty()) {
+    const Image* source = image.get();
+    int sWrap = wrapS, tWrap = wrapT;
+    if (!udimTiles.empty()) {  // the tile under (u, v), read in its own [0, 1)^2, clamped at its edges
         float column = std::floor(u), row = std::floor(v);
-        const Image* tile = nullptr;
-        if (column >= 0 && column < kUdimColumns && row >= 0 && row < kUdimTiles / kUdimColumns)
-            tile = udimTiles[size_t(row) * kUdimColumns + size_t(column)].get();
-        if (!tile) {  // no tile there: UsdUVTexture's fallback, as for a file that cannot be read
+        source = column >= 0 && column < kUdimColumns && row >= 0 && row < kUdimTiles / kUdimColumns
+                     ? udimTiles[size_t(row) * kUdimColumns + size_t(column)].get()
+                     : nullptr;
+        if (!source) {  // no tile there: UsdUVTexture's fallback, as for a file that cannot be read
             for (int c = 0; c < 4; ++c) out[c] = desc.fallback[c];
             return;
         }
-        tile->lookup(u - column, v - row, kWrapClamp, kWrapClamp, out, footprint * stScale);
-        for (int c = 0; c < 4; ++c) out[c] = out[c] * desc.scale[c] + desc.bias[c];
-        return;
+        u -= column, v -= row;
+        sWrap = tWrap = kWrapClamp;
     }
-    image->lookup(u, v, wrapS, wrapT, out, footprint * stScale);
+    source->lookup(u, v, sWrap, tWrap, out, footprint * stScale);
     for (int c = 0; c < 4; ++c) out[c] = out[c] * desc.scale[c] + desc.bias[c];
 }
 
