@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "math.h"
+#include "sampler_batch.h"
 
 namespace gi {
 
@@ -87,14 +88,27 @@ public:
         sampleIndex_ = sampleIndex;
         reversedIndex_ = reverseBits(sampleIndex);
         dimension_ = 0;
+        batchEnd_ = 0;
     }
 
-    Vec2 get2D() { return sample2D(dimension_++); }
+    Vec2 get2D() {
+#if defined(__AVX2__)
+        // Pairs come eight at a time (sampler_batch.h), the same values as one at a time.
+        if (dimension_ >= batchEnd_) {  // dimension_ only grows from start's 0
+            batchStart_ = dimension_;
+            batchEnd_ = dimension_ + sampler_batch::kPairs;
+            sampler_batch::pairs(pixelHash_, reversedIndex_, batchStart_, batch_);
+        }
+        return batch_[dimension_++ - batchStart_];
+#else
+        return pairAt(dimension_++);
+#endif
+    }
     float get1D() { return get2D().x; }
     // The time within the shutter (0 = open, 1 = close) of this camera sample or photon: a
     // dimension of its own, outside the sequence get2D walks, so that drawing it shifts no other
     // dimension and a scene where nothing moves renders bit-identically with or without a shutter.
-    float shutterTime() const { return sample2D(kShutterDimension).x; }
+    float shutterTime() const { return pairAt(kShutterDimension).x; }
     uint32_t sampleIndex() const { return sampleIndex_; }  // the camera sample (or stream index) started
 
     // An independent stream for work that is not per pixel (photons, cache records).
@@ -103,13 +117,11 @@ public:
         sampleIndex_ = index;
         reversedIndex_ = reverseBits(index);
         dimension_ = 0;
+        batchEnd_ = 0;
     }
 
-private:
-    // Far beyond any path's dimension count (paths stop at kDepthCap bounces of a few pairs each).
-    static constexpr uint32_t kShutterDimension = 0x5bd1e995u;
-
-    Vec2 sample2D(uint32_t dimension) const {
+    // The pair of `dimension` in the current sample, one at a time (get2D's reference).
+    Vec2 pairAt(uint32_t dimension) const {
         uint32_t pairSeed = hashCombine(pixelHash_, dimension);
         // The pair's shuffled index: the index Owen-scrambled (a Laine-Karras permutation of its
         // reversed bits). Each coordinate is then the scramble of Sobol's point at that index, whose
@@ -123,11 +135,18 @@ private:
         return {uintToUnitFloat(uint32_t(reversed >> 32)), uintToUnitFloat(uint32_t(reversed))};
     }
 
+private:
+    // Far beyond any path's dimension count (paths stop at kDepthCap bounces of a few pairs each).
+    static constexpr uint32_t kShutterDimension = 0x5bd1e995u;
+
     uint32_t seed_;
     uint32_t pixelHash_ = 0;
     uint32_t sampleIndex_ = 0;
     uint32_t reversedIndex_ = 0;  // reverseBits(sampleIndex_), the scramble's input for every pair
     uint32_t dimension_ = 0;
+    // get2D's pairs of dimensions [batchStart_, batchEnd_) of the current sample (none after start).
+    uint32_t batchStart_ = 0, batchEnd_ = 0;
+    Vec2 batch_[sampler_batch::kPairs];
 };
 
 }  // namespace gi

@@ -71,3 +71,23 @@ TEST(Warps, CosineHemisphereIsNormalisedAndUpward) {
         EXPECT_GE(d.z, 0.0f);
     }
 }
+
+// get2D's pairs come eight at a time where the CPU has AVX2 (sampler_batch.h): the same values as
+// one at a time, across camera samples, streams and the shutter's own dimension.
+TEST(Sampler, PairsInBatchesAreThePairsOneAtATime) {
+    uint32_t state = 12345;
+    auto next = [&] { return state = hashCombine(state, 0x2545f491u); };
+    for (int trial = 0; trial < 5000; ++trial) {
+        Sampler batched(next());
+        if (trial % 2) batched.startStream(next(), next());
+        else batched.start(int(next() % 4096), int(next() % 4096), next());
+        const Sampler reference = batched;
+        const int pairs = int(next() % 40);
+        for (int k = 0; k < pairs; ++k) {
+            Vec2 u = batched.get2D(), v = reference.pairAt(uint32_t(k));
+            ASSERT_EQ(u.x, v.x) << "trial " << trial << ", pair " << k;
+            ASSERT_EQ(u.y, v.y) << "trial " << trial << ", pair " << k;
+        }
+        EXPECT_EQ(batched.shutterTime(), reference.shutterTime());
+    }
+}
