@@ -34,8 +34,7 @@ Vec3 applyNormalMap(const Material& material, Vec2 uv, Vec3 n, Vec3 e1, Vec3 e2,
 
 }  // namespace
 
-SurfaceInteraction Scene::makeInteraction(const Ray& ray, const PendingHit& pending) const {
-    SurfaceInteraction si;
+void Scene::makeInteraction(const Ray& ray, const PendingHit& pending, SurfaceInteraction& si) const {
     const RTCRayHit& rh = pending.rh;
     const RTCHit& h = rh.hit;
     const int shapeId = pending.shape;
@@ -123,7 +122,6 @@ SurfaceInteraction Scene::makeInteraction(const Ray& ray, const PendingHit& pend
     if (dot(ns, ng) < 0) ns = -ns;  // keep authored normals on the geometric side's hemisphere
     si.ng = ng;
     si.ns = ns;
-    return si;
 }
 
 namespace {
@@ -289,7 +287,7 @@ void Scene::prefetchSurface(const PendingHit& pending) const {
 
 Intersection Scene::finish(const Ray& ray, const PendingHit& pending) const {
     Intersection result = pending.hit;
-    if (result.kind == Intersection::Kind::Surface) result.si = makeInteraction(ray, pending);
+    if (result.kind == Intersection::Kind::Surface) makeInteraction(ray, pending, result.si);
     return result;
 }
 

@@ -4,6 +4,11 @@ namespace gi {
 
 ShadingPoint makeShadingPoint(const SurfaceInteraction& si, const Vec3& wo) {
     ShadingPoint sp;
+    makeShadingPoint(si, wo, sp);
+    return sp;
+}
+
+void makeShadingPoint(const SurfaceInteraction& si, const Vec3& wo, ShadingPoint& sp) {
     sp.si = si;
     sp.wo = wo;
     sp.bsdf = si.material->bsdf(si.uv, si.uvFootprint);
@@ -17,7 +22,6 @@ ShadingPoint makeShadingPoint(const SurfaceInteraction& si, const Vec3& wo) {
     if (!sp.bsdf.transmits() && dot(wo, n) <= 0) n = sp.si.ng;
     sp.frame = Frame(n);
     sp.woLocal = sp.frame.toLocal(wo);
-    return sp;
 }
 
 Color sampleDirectLight(const Scene& scene, const ShadingPoint& sp, Sampler& sampler, RayStats& stats, bool mis) {

@@ -16,6 +16,9 @@ struct ShadingPoint {
 };
 
 ShadingPoint makeShadingPoint(const SurfaceInteraction& si, const Vec3& wo);
+// The same into `sp`, every field overwritten: a path's loop reuses its point, where a returned
+// copy, read back in wide moves from the narrower stores just made, stalls on store forwarding.
+void makeShadingPoint(const SurfaceInteraction& si, const Vec3& wo, ShadingPoint& sp);
 
 // Direct light at a shading point from one light chosen by power, MIS-weighted against BSDF
 // sampling when `mis` is set (pure light sampling otherwise).

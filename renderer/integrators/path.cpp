@@ -99,7 +99,7 @@ Color PathIntegrator::continuePath(const Scene& scene, ShadingPoint sp, Sampler&
             L += beta * emittedOnHit(scene, hit, next, sp.si.p, bs.pdf, bs.delta);
         if (hit.kind == Intersection::Kind::Light || depthLimitReached(vertices, pathDepth_, stats)) break;
         ++vertices;
-        sp = makeShadingPoint(hit.si, -wi);
+        makeShadingPoint(hit.si, -wi, sp);
         if (vertices > rouletteDepth_) {
             float q = std::max(0.05f, 1 - maxComponent(beta));
             if (sampler.get1D() < q) break;
