@@ -19,11 +19,15 @@ bool wrapCoordinate(int& i, int n, int mode) {
         case kWrapBlack: return false;
         case kWrapMirror: {
             int period = 2 * n;
-            int m = ((i % period) + period) % period;
+            int m = i % period;  // one integer division: each is about 25 cycles
+            if (m < 0) m += period;
             i = m < n ? m : period - 1 - m;
             return true;
         }
-        default: i = ((i % n) + n) % n; return true;
+        default:
+            i %= n;
+            if (i < 0) i += n;
+            return true;
     }
 }
 

@@ -202,3 +202,22 @@ TEST(RayCones, LightOffATextureFinerThanItsConesKeepsItsMean) {
     // pixels by 0.48% (measured); with the cones 0.12%, uniform 0.09%.
     EXPECT_LT(texturedSpread, 2 * uniformSpread + 0.001) << "uniform " << uniformSpread;
 }
+
+// Texel coordinates outside the image wrap as UsdUVTexture's modes say, far on either side: a row
+// of four texels 0..3 read at texel centres from -9 to 12 repeats as 0 1 2 3 and mirrors as
+// 0 1 2 3 3 2 1 0.
+TEST(TextureWrap, RepeatAndMirrorFarOnEitherSide) {
+    const int width = 4;
+    std::vector<float> pixels;
+    for (int i = 0; i < width; ++i) pixels.insert(pixels.end(), {float(i), 0, 0, 1});
+    auto image = Image::fromPixels(width, 1, pixels);
+    for (int texel = -9; texel <= 12; ++texel) {
+        const float u = (texel + 0.5f) / width;
+        float repeat[4], mirror[4];
+        image->lookup(u, 0.5f, kWrapRepeat, kWrapRepeat, repeat);
+        image->lookup(u, 0.5f, kWrapMirror, kWrapMirror, mirror);
+        const int r = ((texel % width) + width) % width, m = ((texel % 8) + 8) % 8;
+        EXPECT_FLOAT_EQ(repeat[0], float(r)) << "texel " << texel;
+        EXPECT_FLOAT_EQ(mirror[0], float(m < width ? m : 7 - m)) << "texel " << texel;
+    }
+}
