@@ -12,7 +12,9 @@ Per scene:
    the reference, and the efficiency 1 / (MSE_sRGB8 * t), for gi's path tracer, Mitsuba's path
    tracer and gi's --best technique. gi renders once with its time limit (which counts its
    preprocessing: the photon passes of --best); Mitsuba renders batches of about t/8 until t has
-   passed. Ratios are gi over Mitsuba, by wall time and by process CPU time.
+   passed. Ratios are gi over Mitsuba, by wall time and by process CPU time. This is repeated
+   --rounds times (3); each round's ratios are printed, and their median is the figure to quote:
+   on a shared machine one round's ratio moved by up to a tenth against the next.
 
 Times are render times only: scene load and acceleration-structure build are excluded for both
 (and printed), and Mitsuba's kernels are compiled by a 1-spp warm-up render first. The machine is
@@ -20,7 +22,7 @@ shared: figures are from one run, alternating the renderers so that load changes
 
     .venv/bin/pip install -e '.[bench]'      # Mitsuba 3 (the `bench` extra)
     .venv/bin/python bench/peers.py [--scenes cornell,sponza,sibenik] [--width 128]
-        [--converge-seconds 120] [--seconds 10] [--threads 2] [--best progressivePhotonMap]
+        [--converge-seconds 120] [--seconds 10] [--rounds 3] [--threads 2] [--best progressivePhotonMap]
         [--mitsuba-variant scalar_rgb] [--tracing-only]
 
 --mitsuba-variant scalar_rgb runs Mitsuba one path at a time, as gi does: what its vectorised
@@ -85,10 +87,10 @@ class Gi:
         return color, clock
 
 
-    def render_for(self, seconds, integrator, seconds_per_sample):
+    def render_for(self, seconds, integrator, seconds_per_sample, seed):
         """One render cut off by gi's own time limit: (image, Clock, camera samples)."""
         from gi.render import render_loaded, render_settings
-        settings = render_settings(self.loaded, integrator, {}, 1 << 20, 7, self.threads, seconds, self.resolution,
+        settings = render_settings(self.loaded, integrator, {}, 1 << 20, seed, self.threads, seconds, self.resolution,
                                    "box")
         with Clock() as clock:
             result = render_loaded(self.loaded, settings, integrator)
@@ -111,11 +113,11 @@ class Mitsuba:
             image, _ = mitsuba_scene.render(self.scene, spp, seed, self.threads)
         return image, clock
 
-    def render_for(self, seconds, integrator, seconds_per_sample):
-        """Renders of about seconds / 8 each (other seeds) until `seconds` have passed; their
-        spp-weighted mean: (image, Clock, camera samples)."""
+    def render_for(self, seconds, integrator, seconds_per_sample, seed):
+        """Renders of about seconds / 8 each (seeds from `seed` on) until `seconds` have passed;
+        their spp-weighted mean: (image, Clock, camera samples)."""
         batch = spp_for(seconds / 8, seconds_per_sample)
-        total, spp, seed = None, 0, 7
+        total, spp = None, 0
         with Clock() as clock:
             while time.perf_counter() - clock.wall < seconds:   # clock.wall: the start, until the block ends
                 image, _ = mitsuba_scene.render(self.scene, batch, seed, self.threads)
@@ -175,9 +177,9 @@ def agreement(renderers, per_sample, converge_seconds):
     return (means[ours] + means[theirs]) / 2, figures
 
 
-def equal_time(renderer, integrator, seconds, per_sample, reference, resolution):
+def equal_time(renderer, integrator, seconds, per_sample, reference, resolution, seed):
     from gi import metrics
-    image, clock, samples = renderer.render_for(seconds, integrator, per_sample)
+    image, clock, samples = renderer.render_for(seconds, integrator, per_sample, seed)
     rmse = metrics.rmse_srgb8(image, reference)
     spp = samples / (resolution[0] * resolution[1])
     return {"who": f"{renderer.name} {integrator}", "spp": spp, "seconds": clock.wall, "cpu_seconds": clock.cpu,
@@ -231,15 +233,17 @@ def run_scene(name, path, args):
         # whether the difference is that or the light transport.
         same_meshes = Gi(path, resolution, args.threads, converted_normals=True)
         agreements.append(agreement([same_meshes, mi_renderer], per_sample, args.converge_seconds / 2)[1])
-    rows = []
-    for runner, integrator, seconds_per_sample in ((gi_renderer, "path", per_sample["gi"]),
-                                                   (mi_renderer, "path", per_sample["mitsuba"]),
-                                                   (gi_renderer, args.best, best_per_sample)):
-        rows.append(equal_time(runner, integrator, args.seconds, seconds_per_sample, reference, resolution))
+    rounds = []  # each: gi's path tracer, Mitsuba's, gi's --best, rendered one after the other
+    for k in range(args.rounds):  # each round its own seeds (Mitsuba's batches count up from them)
+        rounds.append([equal_time(runner, integrator, args.seconds, seconds_per_sample, reference, resolution,
+                                  7 + 1000 * k)
+                       for runner, integrator, seconds_per_sample in ((gi_renderer, "path", per_sample["gi"]),
+                                                                      (mi_renderer, "path", per_sample["mitsuba"]),
+                                                                      (gi_renderer, args.best, best_per_sample))])
     memory = {who: renderer_memory_mb(who, name, args.width, args.threads) for who in ("gi", "mitsuba")}
     return {"scene": name, "resolution": resolution, "build": {r.name: r.build_seconds for r in renderers},
             "memory": memory,
-            "approximated": mi_renderer.approximated, "agreements": agreements, "rows": rows}
+            "approximated": mi_renderer.approximated, "agreements": agreements, "rounds": rounds}
 
 
 def report(result):
@@ -253,22 +257,31 @@ def report(result):
         print(f"agreement, {a['who']} / Mitsuba ({a['spp'][0]} / {a['spp'][1]} spp x 2 seeds): mean luminance ratio "
               f"{a['mean_ratio']:.4f} (RGB {', '.join(f'{v:.4f}' for v in a['rgb_ratio'])}); RMSE between them "
               f"{a['cross_rmse']:.4g}, noise floor {a['noise_floor']:.4g} (ratio {a['cross_rmse'] / a['noise_floor']:.3f})")
-    print("\n| renderer | spp | wall s | CPU s | samples/s | samples/CPU-s | mean ÷ ref | RMSE sRGB8 | FLIP "
+    print("\n| round | renderer | spp | wall s | CPU s | samples/s | samples/CPU-s | mean ÷ ref | RMSE sRGB8 | FLIP "
           "| 1/(MSE·t) | 1/(MSE·CPU t) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
-    for r in result["rows"]:
-        print(f"| {r['who']} | {r['spp']:.0f} | {r['seconds']:.2f} | {r['cpu_seconds']:.2f} | "
-              f"{r['samples_per_second'] / 1e3:.1f} k | {r['samples_per_cpu_second'] / 1e3:.1f} k | "
-              f"{r['mean_ratio']:.3f} | {r['rmse_srgb8']:.2f} | {r['flip']:.4f} | {r['efficiency']:.4g} | "
-              f"{r['cpu_efficiency']:.4g} |")
-    gi_path, mi_path, best = result["rows"]
-
-    def ratio(key, row=gi_path):
-        return row[key] / mi_path[key]
-    print(f"\ngi ÷ Mitsuba (wall / CPU): samples/s {ratio('samples_per_second'):.2f} / "
-          f"{ratio('samples_per_cpu_second'):.2f}; efficiency, path {ratio('efficiency'):.2f} / "
-          f"{ratio('cpu_efficiency'):.2f}; {best['who']} {ratio('efficiency', best):.2f} / "
-          f"{ratio('cpu_efficiency', best):.2f}")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for k, rows in enumerate(result["rounds"], 1):
+        for r in rows:
+            print(f"| {k} | {r['who']} | {r['spp']:.0f} | {r['seconds']:.2f} | {r['cpu_seconds']:.2f} | "
+                  f"{r['samples_per_second'] / 1e3:.1f} k | {r['samples_per_cpu_second'] / 1e3:.1f} k | "
+                  f"{r['mean_ratio']:.3f} | {r['rmse_srgb8']:.2f} | {r['flip']:.4f} | {r['efficiency']:.4g} | "
+                  f"{r['cpu_efficiency']:.4g} |")
+    # Ratios within a round, where gi and Mitsuba ran one after the other; their median over the
+    # rounds is the figure to quote (the machine is shared: a round's load hits both).
+    ratios = {"samples/s": [], "samples/CPU-s": [], "path efficiency": [], "path efficiency (CPU)": [],
+              "best efficiency": [], "best efficiency (CPU)": [], "FLIP": []}
+    for gi_path, mi_path, best in result["rounds"]:
+        ratios["samples/s"].append(gi_path["samples_per_second"] / mi_path["samples_per_second"])
+        ratios["samples/CPU-s"].append(gi_path["samples_per_cpu_second"] / mi_path["samples_per_cpu_second"])
+        ratios["path efficiency"].append(gi_path["efficiency"] / mi_path["efficiency"])
+        ratios["path efficiency (CPU)"].append(gi_path["cpu_efficiency"] / mi_path["cpu_efficiency"])
+        ratios["best efficiency"].append(best["efficiency"] / mi_path["efficiency"])
+        ratios["best efficiency (CPU)"].append(best["cpu_efficiency"] / mi_path["cpu_efficiency"])
+        ratios["FLIP"].append(gi_path["flip"] / mi_path["flip"])
+    best_name = result["rounds"][0][2]["who"]
+    print(f"\ngi ÷ Mitsuba, each round (median; {best_name} for best):")
+    for key, values in ratios.items():
+        print(f"  {key}: {', '.join(f'{v:.2f}' for v in values)} (median {float(np.median(values)):.2f})")
 
 
 def tracing_rates(name, path, rays, threads, rounds=3):
@@ -315,6 +328,8 @@ def main(argv=None):
     parser.add_argument("--converge-seconds", type=float, default=120.0, help="per renderer, for the agreement")
     parser.add_argument("--seconds", type=float, default=10.0, help="equal-time budget per render")
     parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--rounds", type=int, default=3,
+                        help="equal-time rounds, each gi's path tracer, Mitsuba's and gi's --best in turn")
     parser.add_argument("--best", default="progressivePhotonMap", help="gi's technique set against Mitsuba's path tracer")
     parser.add_argument("--mitsuba-variant", default=mitsuba_scene.VARIANT,
                         help="Mitsuba's variant (scalar_rgb: one path at a time; see above)")
@@ -337,7 +352,8 @@ def main(argv=None):
             tracing_rates(name, SCENES[name], 1 << 21, args.threads)
         return 0
     import mitsuba
-    print(f"gi against Mitsuba {mitsuba.__version__} ({mitsuba_scene.VARIANT}), {args.threads} threads, one run")
+    print(f"gi against Mitsuba {mitsuba.__version__} ({mitsuba_scene.VARIANT}), {args.threads} threads, "
+          f"{args.rounds} equal-time rounds in one run")
     for name in args.scenes.split(","):
         if not SCENES[name].exists():
             print(f"{name}: {SCENES[name]} missing (run scripts/import-scenes.sh); skipped")
