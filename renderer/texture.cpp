@@ -12,7 +12,7 @@ float srgbToLinear(float c) {
 }
 
 // Maps an integer texel coordinate into range; returns false for 'black' outside the image.
-bool wrapCoordinate(int& i, int n, int mode) {
+[[gnu::always_inline]] inline bool wrapCoordinate(int& i, int n, int mode) {
     if (i >= 0 && i < n) return true;
     switch (mode) {
         case kWrapClamp: i = std::clamp(i, 0, n - 1); return true;
