@@ -228,6 +228,7 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
         context.passRays = stats_.rays;
         tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
         arena.execute([&] { integrator_->beginPass(context, firstSample, count); });
+        stats_.passSetupSeconds += secondsSince(start);
         if (cancel && cancel->load()) return PassEnd::Cancelled;
     }
     int w = settings_.width, h = settings_.height;
@@ -243,6 +244,7 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
     struct ThreadCounters {
         RayStats rays;
         uint64_t samples = 0, nonFinite = 0, clamped = 0;
+        double tileSeconds = 0;
     };
     // Opt-in firefly clamp: a sample brighter than this luminance is scaled down to it (hue kept).
     const float clampLuminance = float(paramValue(*info_, settings_.params, "sampleClamp"));
@@ -268,6 +270,7 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
             auto tile = std::make_unique<FilmTile>(x0, y0, std::min(x0 + kTileSize, w), std::min(y0 + kTileSize, h),
                                                    film_.filter());
             ThreadCounters& c = counters.local();
+            const auto tileStart = Clock::now();
             c.rays.record = settings_.recordRays ? &tileRays[t] : nullptr;
             Sampler sampler(settings_.seed);
             uint64_t tilePixels = 0;
@@ -306,6 +309,7 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
                     }
                 }
             pixelsDone += tilePixels;
+            c.tileSeconds += secondsSince(tileStart);
             tiles[t] = std::move(tile);
             int finished = ++done;
             lastTileTime_.store(std::chrono::duration<double>(Clock::now().time_since_epoch()).count(),
@@ -329,6 +333,7 @@ PassEnd Renderer::renderPass(int firstSample, int count, double deadline, const 
         stats_.nonFiniteSamples += c.nonFinite;
         stats_.clampedSamples += c.clamped;
         stats_.depthCappedPaths += c.rays.depthCapped;
+        stats_.sampleThreadSeconds += c.tileSeconds;
     }
     stats_.renderSeconds += secondsSince(start);
     if (complete) samplesTaken_ = std::max(samplesTaken_, firstSample - firstSample_ + count);

@@ -68,6 +68,11 @@ struct RenderStats {
     int partialPassSamples = 0;
     int preprocessScaledDown = 0;  // times preprocessing did less than asked, to keep the time limit
     size_t peakMemoryBytes = 0;
+    // Where the passes' time went: thread-seconds sampling pixels (the tiles' own time, summed over
+    // threads: a pass's wall time also holds its threads' idle ends, which on a small image such as
+    // auto's pilots is a fifth to most of it), and wall seconds in the integrator's setup of each
+    // pass (a progressive photon map's photons, a cache's record refinement).
+    double sampleThreadSeconds = 0, passSetupSeconds = 0;
     std::map<std::string, double> integrator;
 };
 

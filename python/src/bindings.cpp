@@ -408,7 +408,9 @@ RenderResult render(Scene& scene, const PyRenderSettings& py, std::optional<nb::
                {"spp", double(s.spp)},
                {"partial_pass_pixels", double(s.partialPassPixels)},
                {"partial_pass_samples", double(s.partialPassSamples)},
-               {"preprocess_scaled_down", double(s.preprocessScaledDown)}};
+               {"preprocess_scaled_down", double(s.preprocessScaledDown)},
+               {"sample_thread_seconds", s.sampleThreadSeconds},
+               {"pass_setup_seconds", s.passSetupSeconds}};
     for (const auto& [k, v] : s.integrator) r.stats[k] = v;
     r.integrator = renderer.integratorName();
     if (!renderer.autoChoice().integrator.empty()) {
