@@ -86,16 +86,30 @@ RenderSettings pilotSettings(const RenderSettings& settings, const std::string& 
     return ps;
 }
 
-// A batch's start-up is at least this share short of its time (a bound on the counters' error).
-constexpr double kMinSteadyShare = 0.2;
-
-// Thread-seconds a cache spent so far on records its passes made where no record covered a
-// sample (renderTimeRecordSeconds; 0 for techniques without records).
-double startupThreadSeconds(const Renderer& renderer) {
+// An integrator statistic of the renderer's so far (0 where it has none).
+double statistic(const Renderer& renderer, const char* name) {
     const auto statistics = renderer.integratorStatistics();
-    const auto it = statistics.find("renderTimeRecordSeconds");
+    const auto it = statistics.find(name);
     return it == statistics.end() ? 0.0 : it->second;
 }
+
+// What a batch cost, from the renderer's counters before and after it (AutoPilot's rates):
+// thread-seconds sampling pixels and making records where none covered a sample (a cache's
+// start-up), wall seconds setting passes up, rays the passes traced and those of the start-up's
+// records.
+struct BatchCost {
+    double sampleThreadSeconds = 0, startupThreadSeconds = 0, setupSeconds = 0;
+    double rays = 0, startupRays = 0;
+    static BatchCost of(const Renderer& renderer) {
+        return {renderer.stats().sampleThreadSeconds, statistic(renderer, "renderTimeRecordSeconds"),
+                renderer.stats().passSetupSeconds, double(renderer.stats().rays),
+                statistic(renderer, "renderTimeRecordRays")};
+    }
+    BatchCost operator-(const BatchCost& o) const {
+        return {sampleThreadSeconds - o.sampleThreadSeconds, startupThreadSeconds - o.startupThreadSeconds,
+                setupSeconds - o.setupSeconds, rays - o.rays, startupRays - o.startupRays};
+    }
+};
 
 // A refined-record cache's records after one of its batches (AutoPilot::recordPaths...): the
 // first batch's records and samples per pixel go to `first`, from which the later ones' growth.
@@ -218,11 +232,16 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         }
     }
     int caches = isConsistentTechnique(integrator) ? 1 : 2;
-    double batchSeconds = 0, steadyBatchSeconds = 0;  // the latest batch's, and without its start-up
-    double startupSeconds = 0;                         // the first cache's batches' start-up
+    double batchSeconds = 0;  // the latest batch's wall time
     const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
     std::vector<size_t> cacheBatches;
-    double lastBatchesSeconds = 0, lastBatchesSamples = 0;  // the last batch of each cache's
+    // Over all batches: seconds with every thread busy past the start-up, samples (per pixel),
+    // rays besides the start-up's; the start-up's thread-seconds and rays.
+    double busySeconds = 0, steadySamples = 0, steadyRays = 0, startupThreadSeconds = 0, startupRays = 0;
+    // The first cache's start-up: in all (thread-seconds) and after its first batch, and its
+    // samples per pixel after its first batch and after its last.
+    double firstStartup = 0, laterStartup = 0, firstCacheSamples = 0, firstBatchSamples = 0;
+    double fillRays = 0;  // the first cache's fill's record rays
     double preprocessSeconds = 0, firstPreprocessSeconds = 0;
     int preprocesses = 0;
     bool grew = false;  // the second cache traced more photons than the first
@@ -259,6 +278,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         grew = grew || grownShare > 0;
         ++preprocesses;
         if (!preprocessed) break;
+        if (c == 0) fillRays = statistic(renderer, "preprocessRecordRays");
         // Photons cut short by the deadline stand for those asked: their count is not known.
         if (grownShare > 0 && renderer.stats().preprocessScaledDown == 0) pilot.secondPhotonShare = grownShare;
         int batches = c == 0 ? kAutoPilotBatches / caches : int(firstPasses.size());
@@ -266,7 +286,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         for (int k = 0; k < batches; ++k) {
             std::vector<float> image;
             const double before = renderer.stats().renderSeconds;
-            const double startupBefore = startupThreadSeconds(renderer);
+            const BatchCost costBefore = BatchCost::of(renderer);
             double samples = 0;
             const double now = steadySeconds();
             // The first cache's first pass may run to the pilot's end (see below).
@@ -281,9 +301,23 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
             batchSeconds = renderer.stats().renderSeconds - before;
             // Records made where the batch's samples first needed them are the cache's start-up,
             // which a longer render spreads over many samples: apart from its steady rate.
-            const double startup = (startupThreadSeconds(renderer) - startupBefore) / threads;
-            steadyBatchSeconds = std::max(kMinSteadyShare * batchSeconds, batchSeconds - startup);
-            if (c == 0 || caches == 1) startupSeconds += batchSeconds - steadyBatchSeconds;
+            const BatchCost cost = BatchCost::of(renderer) - costBefore;
+            // Records are made inside the samples' time, so the rest is the samples' own: in a
+            // cache's first batch on Sibenik under its sky 1.4 of 39 thread-ms (a floor at a fifth
+            // of it, kept once for the counters' error, made the samples look 5.5 times as dear).
+            const double startup = std::min(cost.startupThreadSeconds, cost.sampleThreadSeconds);
+            busySeconds += (cost.sampleThreadSeconds - startup) / threads +
+                           (pilot.refinesRecords ? 0.0 : cost.setupSeconds);
+            steadySamples += samples;
+            steadyRays += cost.rays - cost.startupRays;
+            startupThreadSeconds += startup;
+            startupRays += cost.startupRays;
+            if (c == 0 || caches == 1) {
+                firstStartup += startup;
+                if (k > 0) laterStartup += startup;
+                firstCacheSamples += samples;
+                if (k == 0) firstBatchSamples = samples;
+            }
             pilot.batchSamples.push_back(samples);
             pilot.batches.push_back(std::move(image));
             if (c == 0 && pilot.refinesRecords) recordRecords(renderer, k == 0, firstRecords, pilot);
@@ -300,8 +334,6 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         }
         cacheBatches.push_back(made);
         if (made < 2) break;
-        lastBatchesSeconds += steadyBatchSeconds;
-        lastBatchesSamples += pilot.batchSamples.back();
     }
     if (caches == 2 && cacheBatches.size() == 2 && cacheBatches[1] >= 2)
         pilot.firstCacheBatches = int(cacheBatches[0]);
@@ -318,8 +350,18 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
     if (rayTracedSeconds > 0 && pilot.batches.size() >= 2)
         renderRayTracedPart(scene, ps, camera, seed, start + seconds, cancel, pilot);
     if (cancel && cancel->load()) return pilot;
-    pilot.startupSeconds = startupSeconds;
-    if (lastBatchesSamples > 0) pilot.steadySecondsPerSample = lastBatchesSeconds / (lastBatchesSamples * width * height);
+    const double pilotPixels = double(width) * height;
+    pilot.startupSeconds = firstStartup / threads;
+    if (laterStartup > 0 && firstCacheSamples > firstBatchSamples && firstBatchSamples > 0) {
+        pilot.startupGrowthSeconds = laterStartup / threads / std::log(firstCacheSamples / firstBatchSamples);
+        pilot.startupSamples = firstCacheSamples;
+    }
+    if (steadySamples > 0) pilot.steadySecondsPerSample = busySeconds / (steadySamples * pilotPixels);
+    if (pilot.refinesRecords && steadySamples > 0 && startupRays > 0) {
+        pilot.steadyRaysPerSample = steadyRays / (steadySamples * pilotPixels);
+        pilot.recordRaySeconds = startupThreadSeconds / threads / startupRays;
+        pilot.fillRays = fillRays;
+    }
     pilot.complete = pilot.batches.size() >= 2;
     return pilot;
 }

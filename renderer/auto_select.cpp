@@ -234,6 +234,35 @@ double recordPathsShare(const AutoPilot& pilot, double renderSamples, double pix
         pilot.passRaysPerSample * renderSamples * pixels / std::max(pilot.recordRaysPerPath, 1e-3) / records;
     return std::min(1.0, pilot.recordPaths / std::max(paths, pilot.recordPaths));
 }
+
+// The samples per pixel a render of `pixels` takes in `seconds` after its preprocessing, at the
+// pilot's rates (AutoPilot::steadySecondsPerSample and the start-up and refinement beside it):
+// `scale` is the render's pixels over the pilot's, `fillScale` its fill's rays over the pilot's.
+// Infinite where no rate was measured.
+double samplesInTime(const AutoPilot& pilot, double seconds, double scale, double fillScale, double pixels) {
+    if (!(pilot.steadySecondsPerSample > 0)) return std::numeric_limits<double>::infinity();
+    auto startup = [&](double samples) {
+        const double past = pilot.startupSamples > 0 ? std::max(1.0, samples / pilot.startupSamples) : 1.0;
+        return scale * (pilot.startupSeconds + pilot.startupGrowthSeconds * std::log(past));
+    };
+    auto cost = [&](double samples) {
+        double t = samples * pixels * pilot.steadySecondsPerSample + startup(samples);
+        if (pilot.recordRaySeconds > 0) {  // past the fill's rays, a record ray for each pass ray
+            const double passRays = samples * pixels * pilot.steadyRaysPerSample + startup(samples) / pilot.recordRaySeconds;
+            t += pilot.recordRaySeconds * std::max(0.0, passRays - fillScale * pilot.fillRays);
+        }
+        return t;
+    };
+    seconds = std::max(seconds, 1e-3);
+    double lo = 1e-6, hi = 1e9;  // cost grows with the samples: bisection on their logarithm
+    if (cost(hi) <= seconds) return hi;
+    if (cost(lo) >= seconds) return lo;
+    for (int i = 0; i < 100; ++i) {
+        const double mid = std::sqrt(lo * hi);
+        (cost(mid) > seconds ? hi : lo) = mid;
+    }
+    return lo;
+}
 }  // namespace
 
 std::string AutoChoice::summary() const {
@@ -244,15 +273,17 @@ std::string AutoChoice::summary() const {
     std::string text = "auto: chose " + integrator + " for " + std::to_string(int(std::lround(budgetSeconds))) +
                        " s after " + std::to_string(pilotSeconds).substr(0, 4) + " s of pilots on " + pixels +
                        "; predicted RMSE (sRGB codes; its square = bias + cache noise + sample noise; a kept bias's "
-                       "standard error after it):";
+                       "standard error after it; the samples per pixel it renders):";
     for (const AutoPrediction& p : predictions) {
-        char buffer[192];
+        char buffer[256];
         char error[32] = "";  // a kept bias's standard error (AutoPrediction::biasError)
         if (p.biasError > 0) std::snprintf(error, sizeof error, " +- %.2f", p.biasError);
+        char samples[32] = "";  // the samples per pixel the prediction is for
+        if (p.predictedSamples > 0) std::snprintf(samples, sizeof samples, "; %.0f spp", p.predictedSamples);
         if (p.complete)
-            std::snprintf(buffer, sizeof buffer, " %s %.2f (%.2f%s + %.2f + %.2f)%s", p.integrator.c_str(),
+            std::snprintf(buffer, sizeof buffer, " %s %.2f (%.2f%s + %.2f + %.2f%s)%s", p.integrator.c_str(),
                           p.predictedRmse, p.predictedBias, error, p.predictedCacheNoise, p.predictedSampleNoise,
-                          &p == &predictions.back() ? "" : ",");
+                          samples, &p == &predictions.back() ? "" : ",");
         else  // its pilot rendered fewer than two batches in its share
             std::snprintf(buffer, sizeof buffer,
                           " %s (no pilot in time: %d of %d batches in %.2f s, %.2f s of it preprocessing)%s",
@@ -553,14 +584,11 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             // pilot's grown with the pixel count, takes at most its share of the budget.
             double finalPreprocess = std::min(kPreprocessShare * budgetSeconds,
                                               p.preprocessSeconds * pixels / pilotPixels);
-            // The records its first samples make where they land cost the render as the pilot, per
-            // pixel (on Sponza at 10 s 70-75% of a cache's last pilot batches: 1.14 us a sample
-            // without them, 5.2-5.8 with, for 0.99 in the render).
-            const double finalStartup = pilot.startupSeconds * pixels / pilotPixels;
-            double finalSecondsPerPixel = std::max(budgetSeconds - finalPreprocess - finalStartup, 1e-3) / pixels;
-            // One batch's samples over the render's, those at the rate of the pilot's last batches.
+            // One batch's samples over the render's, those at the pilot's rates.
+            const double fillScale = p.preprocessSeconds > 0 ? finalPreprocess / p.preprocessSeconds : pixels / pilotPixels;
             const double meanSamples = meanBatchSamples(pilot);
-            double ratio = std::min(1.0, meanSamples * pilot.steadySecondsPerSample / finalSecondsPerPixel);
+            double ratio = std::min(1.0, meanSamples / samplesInTime(pilot, budgetSeconds - finalPreprocess,
+                                                                     pixels / pilotPixels, fillScale, pixels));
             double biasShare = p.consistent ? std::min(1.0, batches * ratio) : 1.0, noiseShare = ratio;
             // A cache's own noise falls as its records gain paths with the camera's samples
             // (refineRecords), and a photon map's as its photons grow to the render's.
@@ -607,6 +635,7 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
                              v2 = predictedNoise(second, noiseShare * meanBatchSamples(second) / meanSamples);
                 p.predictedSampleNoise = noiseAtTheRendersPhotons(v1, photonsShort.first, v2, photonsShort.second);
             }
+            if (ratio > 0) p.predictedSamples = meanSamples / ratio;
             double mse = p.predictedBias + p.predictedCacheNoise + p.predictedSampleNoise;
             p.predictedRmse = std::sqrt(mse);
             if (p.integrator == "path") pathMse = mse;

@@ -64,10 +64,11 @@
 //   MSE(T) = b2 * min(1, K r) + noise(r) for the path tracer (a missed bright path is noise, not
 //            bias), where r is one batch's mean samples over the final render's: its budget
 //            (less its preprocessing, the pilot's grown with the pixel count and at most
-//            kPreprocessShare of the budget) at the rate of the pilot's last batches, past a
-//            cache's costlier start (batches are time slices, so their samples differ: the mean
-//            images weigh them by their samples, and noise(q) scales each batch's deviation to
-//            the mean batch's samples);
+//            kPreprocessShare of the budget) at the pilot's rates with every thread busy: its
+//            samples' own, its records' start-up and their refinement (AutoPilot's rates;
+//            batches are time slices, so their samples differ: the mean images weigh them by
+//            their samples, and noise(q) scales each batch's deviation to the mean batch's
+//            samples);
 //            b2 * (h(N) / h(n))^2 + noise_t(r) + noise(r g(N) / g(n)) - noise_t(r g(N) / g(n))
 //            for the progressive photon map (its b2 its blur against the path tracer, scaled
 //            from the pilot's wider radii), n a batch's samples (each took indices from 0) and
@@ -171,6 +172,8 @@ struct AutoPrediction {
     // The predicted MSE's parts at the budget (sRGB codes squared; they sum to predictedRmse^2):
     // the bias left, the cache's own noise left, the camera samples' noise.
     double predictedBias = 0, predictedCacheNoise = 0, predictedSampleNoise = 0;
+    // The samples per pixel it would render in the budget, at its pilot's rates (0: not known).
+    double predictedSamples = 0;
 };
 
 struct AutoChoice {
@@ -206,15 +209,32 @@ struct AutoPilot {
     // first, the others the second; 0: one cache (or none).
     int firstCacheBatches = 0;
     // Each batch's samples per pixel (a pass the deadline cut counts with the pixels it
-    // finished), and the seconds a pixel's sample took in the last batch of each cache, past
-    // the cache's start-up (records made where pixels first need them, a first refinement
-    // round: on Sponza at 37x28 an irradiance cache's first 16 samples took 16 us each, its
-    // later ones 2.8 us, as at 160x120).
+    // finished), and the seconds a pixel's sample takes with every thread busy, past the cache's
+    // start-up (records made where pixels first need them): its batches' thread-seconds in their
+    // tiles, less the start-up's, over the threads, plus its passes' setup (a progressive photon
+    // map's photons) unless that is a record refinement (below). Not the batches' wall time: a
+    // pilot's passes are small, and their threads' idle ends made a sample look 1.3 times as dear
+    // as in the render for the path tracer's batches of 8 samples, and 2-3 times for a cache's
+    // batches of one (Sponza at 10 s: the irradiance cache predicted at 116-223 samples per pixel
+    // for 390-459 reached; its pilot's thread-time, 0.92 us a sample, is the render's, 0.93).
     std::vector<double> batchSamples;
     double steadySecondsPerSample = 0;
-    // Of its first cache's batches' time, what went on records made where no record covered a
-    // sample: a start-up the render pays per pixel as the pilot did, left out of the rate above.
-    double startupSeconds = 0;
+    // Of its first cache's batches' time (thread-seconds over the threads), what went on records
+    // made where no record covered a sample: a start-up the render pays per pixel as the pilot
+    // did. It goes on as the samples land where no record is (Sponza's irradiance cache made
+    // 2.25 thread-seconds of them in a 9 s render, 0.62 in its first second), about as the log of
+    // the samples per pixel: `startupGrowthSeconds` more per unit of ln(samples) past
+    // `startupSamples`, from the first cache's batches after its first (on Sponza 2.2 predicted
+    // for that render). 0: a start-up once, as the pilot's.
+    double startupSeconds = 0, startupGrowthSeconds = 0, startupSamples = 0;
+    // Refined records (refineRecords): the render refines them until their rays match its
+    // passes' (record_refinement.h), so past the fill's rays every ray a pass traces, records it
+    // makes included, costs a record ray more. Per pixel sample its passes trace
+    // `steadyRaysPerSample` rays besides the records they make; a record ray takes
+    // `recordRaySeconds` (with every thread busy, from its start-up records); the fill traced
+    // `fillRays`. On Sponza at 9 s the refinement was 6.7 of the irradiance cache's 17 render
+    // thread-seconds, and the pilots' batches are too short to reach it. 0: not refined.
+    double steadyRaysPerSample = 0, recordRaySeconds = 0, fillRays = 0;
     double photonShare = 0;       // its photon map's photons over the render's (0: no photon map)
     // The second cache's photons over the render's, where it traced more than the first (0: as
     // many, or not known: its preprocessing was cut short).

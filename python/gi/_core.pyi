@@ -162,10 +162,12 @@ class RenderResult:
                                        # depth_capped_paths, peak_memory_bytes, spp, partial_pass_pixels and
                                        # partial_pass_samples (the last pass the time limit cut: the pixels
                                        # that have its samples too), preprocess_scaled_down (times
-                                       # preprocessing did less than asked to keep the time limit), + the
-                                       # integrator's own statistics; auto_pilot_seconds with "auto"
+                                       # preprocessing did less than asked to keep the time limit),
+                                       # sample_thread_seconds (the passes' tiles, summed over threads),
+                                       # pass_setup_seconds (wall, the passes' setup), + the integrator's
+                                       # own statistics; auto_pilot_seconds with "auto"
     integrator: str                    # the integrator that rendered ("auto" resolves to one)
-    auto_summary: str                  # with "auto": the choice and each technique's predicted RMSE; else ""
+    auto_summary: str                  # with "auto": the choice and each technique's predicted RMSE and spp; else ""
 
 def presets() -> list[dict]:
     """[{'name', 'description', 'params': {integrator: {parameter: value}}}] (e.g. 'thesis')"""

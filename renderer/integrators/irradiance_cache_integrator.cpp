@@ -168,6 +168,8 @@ std::map<std::string, double> IrradianceCacheIntegrator::statistics() const {
         {"renderTimeRecordSeconds", renderRecords_.nanoseconds.load() * 1e-9},  // thread-seconds
         {"adoptedRenderTimeRecords", double(adoptedRecords_)},  // of those, inserted into the cache
         {"recordRays", double(preprocessRecords_.rays.load() + renderRecords_.rays.load() + refined.rays.load())},
+        {"preprocessRecordRays", double(preprocessRecords_.rays.load())},
+        {"renderTimeRecordRays", double(renderRecords_.rays.load())},
         {"recordSeconds", recordSeconds},  // thread-seconds spent computing records
         {"interpolationSeconds", interpolationNanoseconds_.load() * 1e-9},  // thread-seconds in lookups
         {"preprocessSeconds", preprocessSeconds_},

@@ -269,6 +269,9 @@ std::map<std::string, double> PhotonMapIrradianceCacheIntegrator::statistics() c
     stats["pathTracedRecordsInCache"] = double(RecordRefinement::pathTracedCount(cache_));
     stats["recordRays"] = double(preprocessRecords_.pathTracedRays.load() + renderRecords_.pathTracedRays.load() +
                                  (refinement_ ? refinement_->counters().rays.load() : 0));
+    // The refinement's budget counts the fill's path-traced rays (record_refinement.h).
+    stats["preprocessRecordRays"] = double(preprocessRecords_.pathTracedRays.load());
+    stats["renderTimeRecordRays"] = double(renderRecords_.pathTracedRays.load());
     stats["recordPhotons"] = recordPhotons_;
     return stats;
 }

@@ -294,9 +294,9 @@ TEST(Auto, SeparatesACachesNoiseFromItsBias) {
     for (const AutoPrediction& p : choice.predictions)
         EXPECT_NEAR(p.predictedBias + p.predictedCacheNoise + p.predictedSampleNoise, mse(p.integrator.c_str()), 1e-9)
             << p.integrator;
-    char part[96];
-    std::snprintf(part, sizeof part, "irradianceCache %.2f (%.2f +- %.2f + %.2f + %.2f)", r.predictedRmse,
-                  r.predictedBias, r.biasError, r.predictedCacheNoise, r.predictedSampleNoise);
+    char part[128];
+    std::snprintf(part, sizeof part, "irradianceCache %.2f (%.2f +- %.2f + %.2f + %.2f; %.0f spp)", r.predictedRmse,
+                  r.predictedBias, r.biasError, r.predictedCacheNoise, r.predictedSampleNoise, r.predictedSamples);
     EXPECT_NE(choice.summary().find(part), std::string::npos) << choice.summary();
 }
 
@@ -531,6 +531,38 @@ TEST(Auto, CountsSamplesAtTheRateOfThePilotsLastBatches) {
     EXPECT_LT(p.bias, 0.16);
     EXPECT_NEAR(p.predictedRmse * p.predictedRmse, p.bias + predictedNoise(cache, 3.375 / 100), 1e-9);
     EXPECT_NEAR(predictedNoise(cache, 3.375 / 100), 0.64, 0.05);
+}
+
+// A refined cache's render pays for its records as it goes (AutoPilot's start-up and refinement
+// rates): its start-up grows as the log of the samples, and past the fill's rays every ray of its
+// passes, start-up records included, costs a record ray more. Synthetic rates: 1 us a pixel
+// sample, 2 rays a sample besides the records, 0.5 us a record ray, a fill of 10^5 rays, a start-up
+// of 0.05 s at 4 samples per pixel growing by 0.02 s per unit of ln(samples), all on the pilot's
+// pixels; the render has 4 times them and 4 s. The samples it is predicted to take spend the 4 s.
+TEST(Auto, ARefinedCachesSamplesPayForItsRecords) {
+    AutoPilot cache = syntheticPilot("irradianceCache", 0, 1, 0.01, 47);
+    cache.records = cache.refinesRecords = true;
+    cache.steadySecondsPerSample = 1e-6;
+    cache.steadyRaysPerSample = 2;
+    cache.recordRaySeconds = 0.5e-6;
+    cache.fillRays = 1e5;
+    cache.startupSeconds = 0.05;
+    cache.startupGrowthSeconds = 0.02;
+    cache.startupSamples = 4;
+    const double pixels = 4.0 * kPilotPixels, seconds = 4.0;
+    AutoChoice choice = predictFromPilots({syntheticPilot("path", 0, 1, 0.1, 48), cache}, kPilotPixels, pixels, seconds);
+    const double n = prediction(choice, "irradianceCache").predictedSamples;
+    const double startup = 4 * (0.05 + 0.02 * std::log(n / 4));
+    const double refinement = 0.5e-6 * (n * pixels * 2 + startup / 0.5e-6 - 4 * 1e5);
+    EXPECT_GT(refinement, 0);
+    EXPECT_NEAR(n * pixels * 1e-6 + startup + refinement, seconds, 1e-6);
+    // Without refinement, at the steady rate and the start-up alone: more samples.
+    cache.refinesRecords = false;
+    cache.recordRaySeconds = 0;
+    choice = predictFromPilots({syntheticPilot("path", 0, 1, 0.1, 48), cache}, kPilotPixels, pixels, seconds);
+    const double plain = prediction(choice, "irradianceCache").predictedSamples;
+    EXPECT_NEAR(plain * pixels * 1e-6 + 4 * (0.05 + 0.02 * std::log(plain / 4)), seconds, 1e-6);
+    EXPECT_GT(plain, 1.5 * n);
 }
 
 // Two caches' batches of very unequal samples (time slices: a cache's first samples make its
