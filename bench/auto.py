@@ -15,12 +15,15 @@ Printed per scene and budget: each run's measured seconds, RMSE on sRGB8 and mea
 the reference, auto's choice and pilot seconds, and auto's error over the best technique's mean
 (the issue's goal: at most 1.10, in both metrics) and over the path tracer's mean (at most 1.00);
 the measure proposed in README (within 1.10 of the best in RMSE, at most sqrt(1 / (1 - pilot
-share)) = 1.054 of the path tracer's) beside it. Figures are from one run on a shared machine: compare within a table.
+share)) = 1.054 of the path tracer's) beside it; and what the pilots predicted for each technique
+(RMSE and samples per pixel, from auto's log) beside what its own renders reached. Figures are from
+one run on a shared machine: compare within a table.
 
     .venv/bin/python bench/auto.py [--scenes cornell,room,room-sky,sponza,sibenik,sibenik-portals,sibenik-windows]
         [--budgets 10,60] [--resolution 160 120] [--reference-seconds 120] [--seeds 2] [--auto-runs 2]
 """
 import argparse
+import re
 import time
 from pathlib import Path
 
@@ -68,6 +71,35 @@ def render(loaded, integrator, resolution, seconds, seed=1):
     return result, wall
 
 
+def predictions(summary):
+    """{technique: (predicted RMSE, predicted samples per pixel or None)} from auto's log line."""
+    found = {}
+    for m in re.finditer(r" (\w+) ([0-9.]+) \(([^()]*)\)", summary):
+        spp = re.search(r"; ([0-9]+) spp$", m.group(3))
+        found[m.group(1)] = (float(m.group(2)), int(spp.group(1)) if spp else None)
+    return found
+
+
+def print_predictions(techniques, mean, spps, predicted, budget, pilot_seconds):
+    """The pilots' predictions beside what each technique reached in its own renders at T. The
+    predictions are for the time auto has left after its pilots, so a technique whose error is all
+    noise reaches sqrt(T / (T - pilots)) of its prediction at T (1.054 at a 10% share), and its
+    samples in T are T / (T - pilots) of those predicted, less its preprocessing's share."""
+    if not any(predicted.values()):
+        return
+    share = float(np.mean(pilot_seconds)) / budget if pilot_seconds else 0.0
+    print(f"\nPredicted by the pilots (for T less their {share:.0%}) against reached at T:")
+    print("| technique | spp reached (mean) | spp predicted | RMSE reached (mean) | RMSE predicted | predicted / reached RMSE |")
+    print("|---|---|---|---|---|---|")
+    for t in techniques:
+        if not predicted[t]:
+            continue
+        rmse = ", ".join(f"{p[0]:.2f}" for p in predicted[t])
+        spp = ", ".join("-" if p[1] is None else str(p[1]) for p in predicted[t])
+        ratios = ", ".join(f"{p[0] / mean[t][0]:.2f}" for p in predicted[t])
+        print(f"| {t} | {np.mean(spps[t]):.0f} | {spp} | {mean[t][0]:.2f} | {rmse} | {ratios} |")
+
+
 def main():
     from gi import _core, metrics
     from gi.loader import load_stage
@@ -101,6 +133,8 @@ def main():
             print("|---|---|---|---|---|---|")
             errors = {t: [] for t in techniques}
             walls = {t: [] for t in techniques}
+            spps = {t: [] for t in techniques}
+            predicted = {t: [] for t in techniques}  # (RMSE, spp) per auto run, from its log
             autos = []  # (integrator, RMSE, FLIP, pilot seconds, wall)
             for round_ in range(max(args.seeds, args.auto_runs)):
                 if round_ < args.seeds:
@@ -109,12 +143,15 @@ def main():
                         m = metrics.compare(np.asarray(result.color), reference)
                         errors[integrator].append((m.rmse_srgb8, m.flip))
                         walls[integrator].append(wall)
+                        spps[integrator].append(result.spp)
                         print(f"| {integrator} | {1 + round_} | {wall:.1f} | {result.spp} | {m.rmse_srgb8:.2f} | "
                               f"{m.flip:.4f} |", flush=True)
                 if round_ < args.auto_runs:  # seeds 1, 11, 21, ...: pilots and render differ
                     result, wall = render(loaded, "auto", resolution, budget, seed=1 + 10 * round_)
                     m = metrics.compare(np.asarray(result.color), reference)
                     autos.append((result.integrator, m.rmse_srgb8, m.flip, result.stats["auto_pilot_seconds"], wall))
+                    for t, p in predictions(result.auto_summary).items():
+                        predicted[t].append(p)
                     print(f"| auto -> {result.integrator} | {1 + 10 * round_} | {wall:.1f} | {result.spp} | "
                           f"{m.rmse_srgb8:.2f} | {m.flip:.4f} |\n\n{result.auto_summary}\n", flush=True)
             mean = {t: tuple(float(np.mean([e[i] for e in errors[t]])) for i in (0, 1)) for t in techniques}
@@ -124,6 +161,7 @@ def main():
                 r, f = [e[0] for e in errors[t]], [e[1] for e in errors[t]]
                 print(f"| {t} | {mean[t][0]:.2f} ({min(r):.2f}-{max(r):.2f}) | {mean[t][1]:.4f} "
                       f"({min(f):.4f}-{max(f):.4f}) |")
+            print_predictions(techniques, mean, spps, predicted, budget, [a[3] for a in autos])
             best = min(techniques, key=lambda t: mean[t][0])
             best_flip = min(mean[t][1] for t in techniques)
             for chosen, rmse, flip, pilots, wall in autos:
