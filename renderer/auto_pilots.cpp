@@ -101,9 +101,13 @@ struct BatchCost {
     double sampleThreadSeconds = 0, startupThreadSeconds = 0, setupSeconds = 0;
     double rays = 0, startupRays = 0;
     static BatchCost of(const Renderer& renderer) {
-        return {renderer.stats().sampleThreadSeconds, statistic(renderer, "renderTimeRecordSeconds"),
-                renderer.stats().passSetupSeconds, double(renderer.stats().rays),
-                statistic(renderer, "renderTimeRecordRays")};
+        const auto statistics = renderer.integratorStatistics();  // built once: it walks the cache
+        auto stat = [&](const char* name) {
+            const auto it = statistics.find(name);
+            return it == statistics.end() ? 0.0 : it->second;
+        };
+        return {renderer.stats().sampleThreadSeconds, stat("renderTimeRecordSeconds"),
+                renderer.stats().passSetupSeconds, double(renderer.stats().rays), stat("renderTimeRecordRays")};
     }
     BatchCost operator-(const BatchCost& o) const {
         return {sampleThreadSeconds - o.sampleThreadSeconds, startupThreadSeconds - o.startupThreadSeconds,
