@@ -108,6 +108,18 @@ double meanSquaredDifference(const std::vector<double>& a, const std::vector<dou
     return count > 0 ? sum / count : 0;
 }
 
+// The blocks' mean differences squared, each weighed by its values (meanSquaredDifference with
+// blocks of one value).
+double meanSquaredDifference(const std::vector<double>& a, const std::vector<double>& b, const BiasBlocks& blocks) {
+    std::vector<double> sum(size_t(blocks.count), 0.0), size(size_t(blocks.count), 0.0);
+    for (size_t i = 0; i < a.size(); ++i)
+        if (blocks.of[i] >= 0) sum[size_t(blocks.of[i])] += a[i] - b[i], size[size_t(blocks.of[i])] += 1;
+    double total = 0, values = 0;
+    for (size_t k = 0; k < sum.size(); ++k)
+        if (size[k] > 0) total += sum[k] * sum[k] / size[k], values += size[k];
+    return values > 0 ? total / values : 0;
+}
+
 // The values a bias is measured on: all but the kBiasTrim share where the path tracer's pilot
 // batches spread most in codes (caustics, a light's neighbours). R is mostly that pilot, and its
 // error there is heavy-tailed: on the Cornell box at 60 s the top 1% of values held 36-46% of each
@@ -295,14 +307,30 @@ std::string AutoChoice::summary() const {
 }
 
 
-double predictedNoise(const AutoPilot& pilot, double q, const std::vector<uint8_t>* kept) {
+namespace {
+
+// Each batch's deviation, per value, in codes at 1/q batches' samples: e_k = f(c_k + q d_k) - f(c_k)
+// (auto_select.h), so that noise(q) over a group of values is the mean over k of their mean e_k,
+// squared, over q: one value's as before, and a block's with the correlation its values' batches
+// carry (a record shared by neighbours moves them together).
+struct CodeDeviations {
+    size_t batches = 0, n = 0;
+    std::vector<double> e;        // batches x n, batch-major
+    std::vector<double> ceiling;  // per value: max(f(M), 255 - f(M))^2, the largest error a value can have
+};
+
+CodeDeviations codeDeviations(const AutoPilot& pilot, double q) {
+    CodeDeviations out;
     const auto& batches = pilot.batches;
     const size_t K = batches.size();
-    if (K < 2 || !(q > 0)) return 0;
+    if (K < 2 || !(q > 0)) return out;
     const size_t n = batches[0].size();
     // A batch's deviation is from the other batches of its cache (two caches differ by more).
     const size_t split = pilot.firstCacheBatches > 0 ? size_t(pilot.firstCacheBatches) : K;
-    if (split < 2 || (split < K && K - split < 2)) return 0;
+    if (split < 2 || (split < K && K - split < 2)) return out;
+    out.batches = K, out.n = n;
+    out.e.assign(K * n, 0.0);
+    out.ceiling.assign(n, 0.0);
     // Batches are time slices, so their samples differ (a cache's first samples, which make its
     // records, cost more: on Sibenik at 37x28 an irradiance cache's four made 5, 13, 16 and 28).
     // A batch's deviation is from its cache's other batches' sample-weighted mean M', and with
@@ -325,13 +353,10 @@ double predictedNoise(const AutoPilot& pilot, double q, const std::vector<uint8_
             weighted[i] += samples[k] * batches[k][i];
             if (k < split) firstWeighted[i] += samples[k] * batches[k][i];
         }
-    double sum = 0, values = 0;
     for (int y = 0; y < pilot.height; ++y)
         for (int x = 0; x < pilot.width; ++x)
             for (int channel = 0; channel < 3; ++channel) {
                 const size_t i = (size_t(y) * size_t(pilot.width) + size_t(x)) * 3 + size_t(channel);
-                if (kept && !(*kept)[i]) continue;
-                ++values;
                 // The window, within the pixel's tile (its neighbours in the image), clipped there.
                 const int x0 = pilot.tile > 0 ? x / pilot.tile * pilot.tile : 0,
                           x1 = pilot.tile > 0 ? x0 + pilot.tile - 1 : pilot.width - 1;
@@ -343,7 +368,6 @@ double predictedNoise(const AutoPilot& pilot, double q, const std::vector<uint8_
                 for (int v = std::max(y0, y - 1); v <= std::min(y1, y + 1); ++v)
                     for (int u = std::max(x0, x - 1); u <= std::min(x1, x + 1); ++u, ++count)
                         window += total[(size_t(v) * size_t(pilot.width) + size_t(u)) * 3 + size_t(channel)];
-                double pixel = 0;
                 for (size_t k = 0; k < K; ++k) {
                     const bool first = k < split;
                     const double groupWeighted = first ? firstWeighted[i] : weighted[i] - firstWeighted[i];
@@ -358,13 +382,68 @@ double predictedNoise(const AutoPilot& pilot, double q, const std::vector<uint8_
                     const double others = (groupWeighted - samples[k] * value) / othersSamples;
                     double deviation = (value - others) /
                                        std::sqrt(meanSamples * (1.0 / samples[k] + 1.0 / othersSamples));
-                    double e = srgbCode(center + q * deviation) - srgbCode(center);
-                    pixel += e * e;
+                    out.e[k * n + i] = srgbCode(center + q * deviation) - srgbCode(center);
                 }
                 double meanCode = srgbCode(total[i] / double(K)), farthest = std::max(meanCode, 255.0 - meanCode);
-                sum += std::min(pixel / (double(K) * q), farthest * farthest);
+                out.ceiling[i] = farthest * farthest;
             }
-    return values > 0 ? sum / values : 0;
+    return out;
+}
+
+}  // namespace
+
+BiasBlocks biasBlocks(const AutoPilot& layout, const std::vector<uint8_t>* kept, int side) {
+    BiasBlocks blocks;
+    const size_t n = size_t(layout.width) * size_t(layout.height) * 3;
+    blocks.of.assign(n, -1);
+    side = std::max(1, side);
+    // Blocks start at each tile's corner (the pilot's tiles are apart in the image) and are clipped
+    // at its far edges; a block holds one colour channel.
+    const int tile = layout.tile > 0 ? layout.tile : std::max(layout.width, layout.height);
+    const int across = (tile + side - 1) / side;
+    const int tilesAcross = (layout.width + tile - 1) / tile;
+    for (int y = 0; y < layout.height; ++y)
+        for (int x = 0; x < layout.width; ++x)
+            for (int channel = 0; channel < 3; ++channel) {
+                const size_t i = (size_t(y) * size_t(layout.width) + size_t(x)) * 3 + size_t(channel);
+                if (kept && !(*kept)[i]) continue;
+                const int tileIndex = (y / tile) * tilesAcross + x / tile;
+                const int inTile = ((y % tile) / side) * across + (x % tile) / side;
+                blocks.of[i] = (tileIndex * across * across + inTile) * 3 + channel;
+                blocks.count = std::max(blocks.count, blocks.of[i] + 1);
+            }
+    return blocks;
+}
+
+double predictedNoise(const AutoPilot& pilot, const BiasBlocks& blocks, double q) {
+    const CodeDeviations d = codeDeviations(pilot, q);
+    if (d.batches == 0 || blocks.count == 0 || blocks.of.size() != d.n) return 0;
+    std::vector<double> size(size_t(blocks.count), 0.0), ceiling(size_t(blocks.count), 0.0),
+        sum(size_t(blocks.count) * d.batches, 0.0);
+    for (size_t i = 0; i < d.n; ++i) {
+        const int b = blocks.of[i];
+        if (b < 0) continue;
+        size[size_t(b)] += 1;
+        ceiling[size_t(b)] += d.ceiling[i];
+        for (size_t k = 0; k < d.batches; ++k) sum[size_t(b) * d.batches + k] += d.e[k * d.n + i];
+    }
+    double total = 0, values = 0;
+    for (size_t b = 0; b < size.size(); ++b) {
+        if (size[b] == 0) continue;
+        double block = 0;
+        for (size_t k = 0; k < d.batches; ++k) {
+            const double mean = sum[b * d.batches + k] / size[b];
+            block += mean * mean;
+        }
+        // A block's mean error is bounded as its values' are (their squared distances to code 0 or 255).
+        total += size[b] * std::min(block / (double(d.batches) * q), ceiling[b] / size[b]);
+        values += size[b];
+    }
+    return values > 0 ? total / values : 0;
+}
+
+double predictedNoise(const AutoPilot& pilot, double q, const std::vector<uint8_t>* kept) {
+    return predictedNoise(pilot, biasBlocks(pilot, kept, 1), q);
 }
 
 namespace {
@@ -378,13 +457,15 @@ struct BiasEstimate {
     double sharedSampleNoise = 0;  // the two caches' common samples' part of the mean's noise
 };
 
+// Over `blocks` (the kept values in blocks of kBiasBlock: the bias is their mean's), with R's
+// noise over them `referenceVariance`.
 BiasEstimate estimateBias(const AutoPilot& pilot, const std::vector<double>& referenceCodes, double referenceVariance,
-                          const std::vector<uint8_t>& kept) {
+                          const BiasBlocks& blocks) {
     BiasEstimate estimate;
     const std::vector<double> codes =
         srgbCodes(meanImage(pilot.batches, sampleWeights(pilot, 0, pilot.batches.size())));
-    const double error = meanSquaredDifference(codes, referenceCodes, &kept) - referenceVariance;
-    const double keptNoise = predictedNoise(pilot, 1.0 / double(pilot.batches.size()), &kept);
+    const double error = meanSquaredDifference(codes, referenceCodes, blocks) - referenceVariance;
+    const double keptNoise = predictedNoise(pilot, blocks, 1.0 / double(pilot.batches.size()));
     const size_t split = size_t(pilot.firstCacheBatches);
     const std::pair<double, double> photonsShort = photonsShortOf(pilot);
     if (split > 0) {
@@ -404,20 +485,22 @@ BiasEstimate estimateBias(const AutoPilot& pilot, const std::vector<double>& ref
         // on the Cornell box the photon cache's pairs spread by 25.6 codes squared, its
         // batches by 1.2 each), or as the two means' noise, which counts their common samples'
         // as if apart; each is at least the noise, so the smaller.
-        auto differenceNoise = [&](const std::vector<uint8_t>* values) {
-            return std::min(predictedNoise(differences, 1.0 / double(pairs), values),
-                            predictedNoise(firstCache, 1.0 / double(pairs), values) +
-                                predictedNoise(secondCache, 1.0 / double(pairs), values));
+        auto differenceNoise = [&](const BiasBlocks& values) {
+            return std::min(predictedNoise(differences, values, 1.0 / double(pairs)),
+                            predictedNoise(firstCache, values, 1.0 / double(pairs)) +
+                                predictedNoise(secondCache, values, 1.0 / double(pairs)));
         };
-        auto excess = [&](const std::vector<uint8_t>* values, double noise) {
+        auto excess = [&](const BiasBlocks& values, double noise) {
             return std::max(0.0, meanSquaredDifference(firstCodes, secondCodes, values) - noise);
         };
-        const double keptDifferenceNoise = differenceNoise(&kept);
+        const double keptDifferenceNoise = differenceNoise(blocks);
         // A photon map's noise goes as 1 / its photons: each cache's as x_j, its photons'
         // shortfall from the render's (1 / photonShare), and the first cache's is the
         // difference's x_1 / (x_1 + x_2) (a half with alike caches).
         const double firstShare = photonsShort.first / (photonsShort.first + photonsShort.second);
-        estimate.cacheNoise = excess(nullptr, differenceNoise(nullptr)) * firstShare;
+        // The render's cache noise is per value, over all of them.
+        const BiasBlocks everyValue = biasBlocks(pilot, nullptr, 1);
+        estimate.cacheNoise = excess(everyValue, differenceNoise(everyValue)) * firstShare;
         // The mean of all batches, weighed by their samples, holds w_1^2 c_1 + w_2^2 c_2 of it.
         double firstSamples = 0, allSamples = 0;
         for (size_t b = 0; b < pilot.batches.size(); ++b) {
@@ -427,13 +510,13 @@ BiasEstimate estimateBias(const AutoPilot& pilot, const std::vector<double>& ref
         }
         const double w1 = firstSamples / allSamples, w2 = 1 - w1;
         // Over the bias's values:
-        estimate.meanCacheNoise = excess(&kept, keptDifferenceNoise) * firstShare *
+        estimate.meanCacheNoise = excess(blocks, keptDifferenceNoise) * firstShare *
                                   (w1 * w1 + w2 * w2 * photonsShort.second / photonsShort.first);
         // The caches share their samples, so the mean's noise has, beside each cache's own
         // (keptNoise), 2 w_1 w_2 Cov(M_1, M_2), and Var(M_1 - M_2) = V_1 + V_2 - 2 Cov.
-        const double v1 = predictedNoise(cachePilot(pilot, 0, split), 1.0 / double(split), &kept),
-                     v2 = predictedNoise(cachePilot(pilot, split, pilot.batches.size()),
-                                         1.0 / double(pilot.batches.size() - split), &kept);
+        const double v1 = predictedNoise(cachePilot(pilot, 0, split), blocks, 1.0 / double(split)),
+                     v2 = predictedNoise(cachePilot(pilot, split, pilot.batches.size()), blocks,
+                                         1.0 / double(pilot.batches.size() - split));
         estimate.sharedSampleNoise = w1 * w2 * std::max(0.0, v1 + v2 - keptDifferenceNoise);
     }
     estimate.bias = error - keptNoise - estimate.sharedSampleNoise - estimate.meanCacheNoise;
@@ -444,7 +527,7 @@ BiasEstimate estimateBias(const AutoPilot& pilot, const std::vector<double>& ref
 // two caches, without each pair of paired batches), R kept. 0 where fewer than three batches (pairs)
 // leave nothing to compare.
 double biasStandardError(const AutoPilot& pilot, const std::vector<double>& referenceCodes, double referenceVariance,
-                         const std::vector<uint8_t>& kept) {
+                         const BiasBlocks& blocks) {
     const size_t K = pilot.batches.size(), split = size_t(pilot.firstCacheBatches);
     const size_t units = split > 0 ? std::min(split, K - split) : K;
     if (units < 3) return 0;
@@ -462,7 +545,7 @@ double biasStandardError(const AutoPilot& pilot, const std::vector<double>& refe
         } else {
             drop(u);
         }
-        biases.push_back(estimateBias(part, referenceCodes, referenceVariance, kept).bias);
+        biases.push_back(estimateBias(part, referenceCodes, referenceVariance, blocks).bias);
     }
     double mean = 0, spread = 0;
     for (double b : biases) mean += b / double(units);
@@ -473,7 +556,7 @@ double biasStandardError(const AutoPilot& pilot, const std::vector<double>& refe
 }  // namespace
 
 AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotPixels, double pixels,
-                             double budgetSeconds) {
+                             double budgetSeconds, int biasBlock) {
     AutoChoice choice;
     choice.budgetSeconds = budgetSeconds;
     // Each technique's mean image (in codes) and its noise; the consistent techniques'
@@ -528,15 +611,26 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
     double weightSum = 0;
     // The bias estimates' values, each pilot's mean's noise over them, and R's there.
     const std::vector<uint8_t> kept = valuesForBias(path, n);
+    BiasBlocks blocks;
     std::vector<double> keptNoise(pilots.size(), 0.0);
     for (size_t k = 0; k < pilots.size(); ++k)
-        if (pilots[k].complete) keptNoise[k] = predictedNoise(pilots[k], 1.0 / double(pilots[k].batches.size()), &kept);
-    double keptVarianceSum = 0;  // sum of w^2 (noise + blur) over the kept values
+        if (pilots[k].complete) {
+            if (blocks.of.empty()) blocks = biasBlocks(pilots[k], &kept, biasBlock);
+            keptNoise[k] = predictedNoise(pilots[k], blocks, 1.0 / double(pilots[k].batches.size()));
+        }
+    // The blur R holds in the blocks' means: a blur that alternates from pixel to pixel (an
+    // edge spread both ways) falls there as noise does.
+    double progressiveBlockBlur = 0;
+    if (progressiveBlur > 0)
+        progressiveBlockBlur = std::max(0.0, meanSquaredDifference(srgbCodes(means[progressiveIndex]),
+                                                                   srgbCodes(means[pathIndex]), blocks) -
+                                                 keptNoise[progressiveIndex] - keptNoise[pathIndex]);
+    double keptVarianceSum = 0;  // sum of w^2 (noise + blur) over the kept values' blocks
     for (size_t k = 0; k < pilots.size(); ++k) {
         if (!pilots[k].complete || !isConsistentTechnique(pilots[k].integrator)) continue;
-        const double blur = &pilots[k] == progressive ? progressiveBlur : 0;
-        double w = 1.0 / (meanNoise[k] + blur + kNoiseFloor);
-        keptVarianceSum += w * w * (keptNoise[k] + blur + kNoiseFloor);
+        const bool blurs = &pilots[k] == progressive;
+        double w = 1.0 / (meanNoise[k] + (blurs ? progressiveBlur : 0) + kNoiseFloor);
+        keptVarianceSum += w * w * (keptNoise[k] + (blurs ? progressiveBlockBlur : 0) + kNoiseFloor);
         weightSum += w;
         const std::vector<double> codes = srgbCodes(means[k]);
         for (size_t i = 0; i < n; ++i) referenceCodes[i] += w * codes[i];
@@ -566,10 +660,10 @@ AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotP
             const size_t split = size_t(pilot.firstCacheBatches);
             const bool photonLaw = hasPhotonLaw(pilot);
             const std::pair<double, double> photonsShort = photonsShortOf(pilot);
-            const BiasEstimate estimate = estimateBias(pilot, referenceCodes, referenceVariance, kept);
+            const BiasEstimate estimate = estimateBias(pilot, referenceCodes, referenceVariance, blocks);
             p.cacheNoise = estimate.cacheNoise;
             p.bias = std::max(0.0, estimate.bias);
-            if (!p.consistent) p.biasError = biasStandardError(pilot, referenceCodes, referenceVariance, kept);
+            if (!p.consistent) p.biasError = biasStandardError(pilot, referenceCodes, referenceVariance, blocks);
             // R holds part of the photon map's own blur: against the path tracer it shows whole.
             // Its pilot's radii are wider in the world by the square root of the pixel counts'
             // ratio (scalePhotonCounts), and its squared blur grows with the radius: on the

@@ -60,7 +60,11 @@
 //                                                     noise; e, Var(R), these noises and c2 over all values
 //                                                     but the kBiasTrim share where the path
 //                                                     tracer's batches spread most: there R's
-//                                                     error is heavy-tailed)
+//                                                     error is heavy-tailed; and each on the
+//                                                     means of kBiasBlock-square blocks of those
+//                                                     values: R's noise, apart from pixel to pixel,
+//                                                     falls there by the block's values, a bias
+//                                                     smooth over the block does not)
 //   MSE(T) = b2 * min(1, K r) + noise(r) for the path tracer (a missed bright path is noise, not
 //            bias), where r is one batch's mean samples over the final render's: its budget
 //            (less its preprocessing, the pilot's grown with the pixel count and at most
@@ -257,11 +261,27 @@ struct AutoPilot {
 double predictedNoise(const AutoPilot& pilot, double q, const std::vector<uint8_t>* kept = nullptr);
 // The share of values a bias is not measured on: those where the path tracer's pilot spreads most.
 inline constexpr double kBiasTrim = 0.01;
+// A bias is measured on the mean of blocks of kBiasBlock x kBiasBlock values (one channel, within a
+// tile): R's noise, mostly the path tracer's pilot, is apart from pixel to pixel and falls in a
+// block's mean as its values, while a cache's bias is smooth over a few pixels (its records).
+inline constexpr int kBiasBlock = 2;
+// The values of a pilot's layout (width, height, tile) in blocks of side x side within each tile,
+// those `kept` marks (every one without it): `of[i]` the block of value i, -1 if not kept.
+struct BiasBlocks {
+    std::vector<int> of;
+    int count = 0;
+};
+BiasBlocks biasBlocks(const AutoPilot& layout, const std::vector<uint8_t>* kept, int side);
+// noise(q) of the blocks' means: each batch's deviations averaged over a block before they are
+// squared, so that what moves a block's values together (a record) counts whole; each block weighs
+// as its values. With blocks of one value, predictedNoise over those values.
+double predictedNoise(const AutoPilot& pilot, const BiasBlocks& blocks, double q);
 
 // The prediction above from the pilots (each `pilotPixels` pixels) for a render of `pixels`
-// pixels with `budgetSeconds`; the choice among the complete pilots ("path" if none is).
+// pixels with `budgetSeconds`; the choice among the complete pilots ("path" if none is). Biases
+// are measured in blocks of `biasBlock` values a side (1: per value).
 AutoChoice predictFromPilots(const std::vector<AutoPilot>& pilots, double pilotPixels, double pixels,
-                             double budgetSeconds);
+                             double budgetSeconds, int biasBlock = kBiasBlock);
 
 // Renders the pilots (`pilotSeconds` of wall time in all, shared equally) and predicts each
 // technique's error after `budgetSeconds` more of rendering at `settings`' resolution. The

@@ -662,6 +662,60 @@ TEST(Auto, TheBiasStandardErrorIsItsSpreadOverPilots) {
     }
 }
 
+// noise(q) over blocks of values: each batch's deviations are averaged over a block before they
+// are squared, so that noise apart from value to value falls in a block's mean as its values (a
+// quarter in blocks of 2 x 2), and noise its values share (a record under them, moved between
+// batches) does not fall at all.
+TEST(Auto, BlocksCountTheNoiseTheirValuesShare) {
+    AutoPilot apart = syntheticPilot("path", 0, 3, 0.1, 21);
+    AutoPilot shared = apart;
+    std::mt19937 rng(22);
+    std::normal_distribution<double> gauss(0.0, 3 / slopeAt(kTruth));
+    for (auto& batch : shared.batches)
+        for (int y = 0; y < kPilotHeight; y += 2)
+            for (int x = 0; x < kPilotWidth; x += 2)
+                for (int c = 0; c < 3; ++c) {
+                    const float value = float(linearOf(kTruth) + gauss(rng));
+                    for (int v = y; v < y + 2; ++v)
+                        for (int u = x; u < x + 2; ++u) batch[(size_t(v) * kPilotWidth + size_t(u)) * 3 + size_t(c)] = value;
+                }
+    const BiasBlocks quads = biasBlocks(apart, nullptr, 2), single = biasBlocks(apart, nullptr, 1);
+    EXPECT_EQ(quads.count, kPilotPixels / 4 * 3);
+    // One batch's noise is 9 codes squared per value, to 3% (EstimatesNoiseAndBiasOfSyntheticPilots).
+    EXPECT_NEAR(predictedNoise(apart, single, 1), 9, 0.3);
+    EXPECT_NEAR(predictedNoise(apart, single, 1), predictedNoise(apart, 1), 1e-12);
+    EXPECT_NEAR(predictedNoise(apart, quads, 1), 9.0 / 4, 0.1);
+    EXPECT_NEAR(predictedNoise(shared, quads, 1), 9, 0.5);  // a quarter of the values: 6% standard error
+    EXPECT_NEAR(predictedNoise(shared, single, 1), 9, 0.5);
+}
+
+// A bias is measured on blocks' means because R's noise, apart from pixel to pixel, then falls by
+// the block's values while a smooth bias stays. A cache 1 code off (b2 = 1) against a path tracer
+// of 8 codes a batch (its mean's variance 8 per value): per value each term of b2's estimate has
+// variance 2 * 8.5^2 + 4 * 8.5 = 178, over 6,144 values a standard error of 0.17; in blocks of 2 x 2
+// (mean's variance 2.1) 2 * 2.1^2 + 4 * 2.1 = 17.5 over 1,536 blocks, 0.11. Over 24 draws both must be
+// right on average (f's curvature moves R by 0.05 codes here), and the blocks' estimates spread less.
+TEST(Auto, BiasInBlocksIsSteadierBehindANoisyReference) {
+    constexpr int kDraws = 24;
+    std::vector<double> sum(2, 0.0), squares(2, 0.0);
+    for (uint32_t draw = 0; draw < kDraws; ++draw) {
+        std::vector<AutoPilot> pilots = {syntheticPilot("path", 0, 8, 0.1, 2000 + 2 * draw),
+                                         syntheticPilot("irradianceCache", 1, 2, 0.1, 2001 + 2 * draw)};
+        for (int side : {1, 2}) {
+            AutoChoice choice = predictFromPilots(pilots, kPilotPixels, 4.0 * kPilotPixels, 4.0, side);
+            const double bias = prediction(choice, "irradianceCache").bias;
+            sum[size_t(side - 1)] += bias;
+            squares[size_t(side - 1)] += bias * bias;
+        }
+    }
+    std::vector<double> spread(2);
+    for (size_t i = 0; i < 2; ++i) {
+        EXPECT_NEAR(sum[i] / kDraws, 1.0, 0.3) << "side " << i + 1;
+        spread[i] = std::sqrt((squares[i] - sum[i] * sum[i] / kDraws) / (kDraws - 1));
+    }
+    EXPECT_LT(spread[1], 0.8 * spread[0]) << spread[0] << " " << spread[1];
+}
+
 // A sphere that reflects and emits half (no other light), and a 32x24 render of it (the default camera).
 void addGreySphere(Scene& scene) {
     addIcosphere(scene, 1.0f, 2, scene.addMaterial(lambert(Color(0.5f), Color(0.5f))));
