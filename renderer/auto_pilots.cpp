@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "auto_select.h"
 #include "render.h"
@@ -86,9 +88,9 @@ RenderSettings pilotSettings(const RenderSettings& settings, const std::string& 
     return ps;
 }
 
-// An integrator statistic of the renderer's so far (0 where it has none).
-double statistic(const Renderer& renderer, const char* name) {
-    const auto statistics = renderer.integratorStatistics();
+// An integrator statistic (Renderer::integratorStatistics, which walks the cache: take it once),
+// 0 where the integrator has none.
+double statistic(const std::map<std::string, double>& statistics, const char* name) {
     const auto it = statistics.find(name);
     return it == statistics.end() ? 0.0 : it->second;
 }
@@ -101,13 +103,10 @@ struct BatchCost {
     double sampleThreadSeconds = 0, startupThreadSeconds = 0, setupSeconds = 0;
     double rays = 0, startupRays = 0;
     static BatchCost of(const Renderer& renderer) {
-        const auto statistics = renderer.integratorStatistics();  // built once: it walks the cache
-        auto stat = [&](const char* name) {
-            const auto it = statistics.find(name);
-            return it == statistics.end() ? 0.0 : it->second;
-        };
-        return {renderer.stats().sampleThreadSeconds, stat("renderTimeRecordSeconds"),
-                renderer.stats().passSetupSeconds, double(renderer.stats().rays), stat("renderTimeRecordRays")};
+        const auto statistics = renderer.integratorStatistics();
+        return {renderer.stats().sampleThreadSeconds, statistic(statistics, "renderTimeRecordSeconds"),
+                renderer.stats().passSetupSeconds, double(renderer.stats().rays),
+                statistic(statistics, "renderTimeRecordRays")};
     }
     BatchCost operator-(const BatchCost& o) const {
         return {sampleThreadSeconds - o.sampleThreadSeconds, startupThreadSeconds - o.startupThreadSeconds,
@@ -119,10 +118,7 @@ struct BatchCost {
 // first batch's records and samples per pixel go to `first`, from which the later ones' growth.
 void recordRecords(const Renderer& renderer, bool firstBatch, std::pair<double, double>& first, AutoPilot& pilot) {
     const auto statistics = renderer.integratorStatistics();
-    auto stat = [&](const char* name) {
-        const auto it = statistics.find(name);
-        return it == statistics.end() ? 0.0 : it->second;
-    };
+    auto stat = [&](const char* name) { return statistic(statistics, name); };
     const double pixels = double(renderer.film().width()) * renderer.film().height();
     // The photon cache's path-traced records (its photon records' noise falls with its photons).
     const double records =
@@ -282,7 +278,7 @@ AutoPilot renderPilot(const Scene& scene, const RenderSettings& settings, const 
         grew = grew || grownShare > 0;
         ++preprocesses;
         if (!preprocessed) break;
-        if (c == 0) fillRays = statistic(renderer, "preprocessRecordRays");
+        if (c == 0) fillRays = statistic(renderer.integratorStatistics(), "preprocessRecordRays");
         // Photons cut short by the deadline stand for those asked: their count is not known.
         if (grownShare > 0 && renderer.stats().preprocessScaledDown == 0) pilot.secondPhotonShare = grownShare;
         int batches = c == 0 ? kAutoPilotBatches / caches : int(firstPasses.size());

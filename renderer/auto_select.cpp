@@ -96,16 +96,11 @@ void typicalBrightness(const AutoPilot& pilot, double& median, double& varianceO
     varianceOfMedian = 0.5 * M_PI * sigma * sigma / double(perBatch.size());
 }
 
-// Over the values `kept` marks (every value without it).
-double meanSquaredDifference(const std::vector<double>& a, const std::vector<double>& b,
-                             const std::vector<uint8_t>* kept = nullptr) {
-    double sum = 0, count = 0;
-    for (size_t i = 0; i < a.size(); ++i)
-        if (!kept || (*kept)[i]) {
-            sum += (a[i] - b[i]) * (a[i] - b[i]);
-            ++count;
-        }
-    return count > 0 ? sum / count : 0;
+// Over every value.
+double meanSquaredDifference(const std::vector<double>& a, const std::vector<double>& b) {
+    double sum = 0;
+    for (size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
+    return a.empty() ? 0 : sum / double(a.size());
 }
 
 // The blocks' mean differences squared, each weighed by its values (meanSquaredDifference with
